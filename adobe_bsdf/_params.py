@@ -1,0 +1,73 @@
+"""Validation of parameters and directions (the bad-input policy of ``docs/conventions.md``).
+
+Every check raises ``ValueError`` naming the parameter, the offending value and the allowed
+range. Nothing is clamped.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: tolerance on |w| - 1 for direction arguments
+UNIT_TOLERANCE = 1e-6
+
+
+def _first_bad(value: np.ndarray, bad: np.ndarray):
+    return value[bad].flat[0] if np.any(bad) else None
+
+
+def real(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
+         lo_open: bool = False, hi_open: bool = False) -> np.ndarray:
+    """``value`` as a float64 array, checked to be finite and inside [lo, hi] (or open ends)."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} = {value!r} is not a real number or array of them") from exc
+    bad = ~np.isfinite(arr) | (arr <= lo if lo_open else arr < lo) | (arr >= hi if hi_open else arr > hi)
+    if np.any(bad):
+        left = "(" if lo_open else "["
+        right = ")" if hi_open else "]"
+        raise ValueError(f"{name} = {_first_bad(arr, bad)!r} is outside the allowed range "
+                         f"{left}{lo}, {hi}{right}")
+    return arr
+
+
+def color(name: str, value, lo: float = -np.inf, hi: float = np.inf) -> np.ndarray:
+    """A colour parameter: a scalar or an array with a trailing axis of 3, as ``(..., 3)``."""
+    arr = real(name, value, lo, hi)
+    if arr.ndim == 0 or arr.shape[-1] == 1:
+        return np.repeat(arr[..., None] if arr.ndim == 0 else arr, 3, axis=-1)
+    if arr.shape[-1] != 3:
+        raise ValueError(f"{name} has shape {arr.shape}; a colour is a scalar or has a trailing axis of 3")
+    return arr
+
+
+def direction(name: str, value) -> np.ndarray:
+    """A batch of unit direction vectors ``(..., 3)``, float64."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} = {value!r} is not an array of 3-vectors") from exc
+    if arr.ndim == 0 or arr.shape[-1] != 3:
+        raise ValueError(f"{name} has shape {arr.shape}; directions need a trailing axis of 3")
+    norm = np.sqrt(np.einsum("...i,...i->...", arr, arr))
+    bad = ~np.isfinite(norm) | (np.abs(norm - 1.0) > UNIT_TOLERANCE)
+    if np.any(bad):
+        raise ValueError(f"{name} = {arr[bad][0]!r} is not a unit vector "
+                         f"(allowed: |{name}| = 1 within {UNIT_TOLERANCE})")
+    return arr
+
+
+def uniforms(name: str, value, n: int) -> np.ndarray:
+    """Uniform random numbers in [0, 1) with a trailing axis of ``n``."""
+    arr = real(name, value, 0.0, 1.0, hi_open=True)
+    if arr.ndim == 0 or arr.shape[-1] != n:
+        raise ValueError(f"{name} has shape {arr.shape}; it needs a trailing axis of {n}")
+    return arr
+
+
+def choice(name: str, value, allowed: tuple) -> str:
+    """One of a fixed set of option strings."""
+    if value not in allowed:
+        raise ValueError(f"{name} = {value!r} is not one of {allowed}")
+    return value

@@ -1,0 +1,197 @@
+"""Fresnel reflectance models, vectorised, with colour broadcasting.
+
+Public API
+----------
+``dielectric(cos_theta_i, eta)``                       exact unpolarised, both sides, TIR
+``conductor(cos_theta_i, eta, k)``                     exact unpolarised, complex IOR eta + i k
+``schlick(cos_theta, f0, f90=1, exponent=5)``          Schlick 1994, generalized (seed 001 eq. 4)
+``f82(cos_theta, f0, f82)``                            Hoffman's original F82 (seed 000 eqs. 2-5)
+``f82_tint(cos_theta, f0, tint, f90=1, exponent=5)``   ASM F82-tint (seed 000 eqs. 2-8),
+                                                       generalized (seed 001 eqs. 5-6)
+
+Shapes: ``cos_theta`` is ``(...)``; the colour models return ``(..., 3)`` with colour
+parameters given as scalars or ``(..., 3)`` arrays. ``dielectric`` returns ``(...)`` for a
+scalar/``(...)`` ``eta``.
+
+References
+----------
+[000] Kutz, Hašan, Edmondson 2021, Novel aspects of the Adobe Standard Material
+      (``shared/seeds/000_dc1170558b4eb881.txt``), §2.
+[001] Hoffman 2023, Generalization of Adobe's Fresnel Model
+      (``shared/seeds/001_fc0819a3e178da01.txt``).
+Born & Wolf, *Principles of Optics*, §1.5 and §13.2 (Fresnel equations, absorbing media).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adobe_bsdf import _params
+
+__all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX"]
+
+#: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) (seed 000 eq. 2)
+COS_THETA_MAX = 1.0 / 7.0
+
+#: rounding slack accepted on |cos theta| <= 1 before it is rejected
+_COS_SLACK = 1e-9
+
+
+def _cos(name: str, value) -> np.ndarray:
+    c = _params.real(name, value, -1.0 - _COS_SLACK, 1.0 + _COS_SLACK)
+    return np.clip(c, -1.0, 1.0)  # removes rounding only (|excess| <= 1e-9)
+
+
+# --- dielectric --------------------------------------------------------------------------
+def dielectric(cos_theta_i, eta) -> np.ndarray:
+    """Exact unpolarised Fresnel reflectance of a dielectric interface.
+
+    Parameters
+    ----------
+    cos_theta_i : array_like (...)
+        Cosine between the incident direction and the interface normal, in [-1, 1]. A
+        negative value means the incident direction lies on the transmitted side; the
+        interface is then seen with relative index ``1 / eta``.
+    eta : array_like (...)
+        Relative index n_t / n_i for ``cos_theta_i > 0``, in (0, inf).
+
+    Returns
+    -------
+    ndarray (...): reflectance in [0, 1]; 1 under total internal reflection; 0 for eta = 1.
+
+    Notes
+    -----
+    R = (r_s^2 + r_p^2) / 2 with r_s = (c_i - eta c_t) / (c_i + eta c_t),
+    r_p = (eta c_i - c_t) / (eta c_i + c_t) (Born & Wolf §1.5.2).
+    """
+    return _dielectric(_cos("cos_theta_i", cos_theta_i),
+                       _params.real("eta", eta, 0.0, np.inf, lo_open=True))
+
+
+def _dielectric(cos_i: np.ndarray, eta: np.ndarray) -> np.ndarray:
+    flip = cos_i < 0.0
+    eta = np.where(flip, 1.0 / eta, eta)
+    c = np.abs(cos_i)
+    sin2_t = (1.0 - c * c) / (eta * eta)
+    tir = sin2_t >= 1.0
+    cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))
+    # the denominators vanish only at c = cos_t = 0, which is TIR or eta = 1 (handled below)
+    den_s = np.where(tir, 1.0, c + eta * cos_t)
+    den_p = np.where(tir, 1.0, eta * c + cos_t)
+    r_s = (c - eta * cos_t) / den_s
+    r_p = (eta * c - cos_t) / den_p
+    return np.where(eta == 1.0, 0.0, np.where(tir, 1.0, 0.5 * (r_s * r_s + r_p * r_p)))
+
+
+# --- conductor ---------------------------------------------------------------------------
+def conductor(cos_theta_i, eta, k) -> np.ndarray:
+    """Exact unpolarised Fresnel reflectance of an absorbing medium with index eta + i k.
+
+    Parameters
+    ----------
+    cos_theta_i : array_like (...), in [-1, 1]; the surface is two-sided (|cos| is used).
+    eta : array_like, scalar or (..., 3); real part of the relative index, in (0, inf).
+    k : array_like, scalar or (..., 3); extinction coefficient, in [0, inf).
+
+    Returns
+    -------
+    ndarray (..., 3)
+
+    Notes
+    -----
+    With n = eta + i k, s^2 = 1 - c^2 and n c_t = sqrt(n^2 - s^2) on the principal branch
+    (Re, Im >= 0: the attenuating wave),
+    r_s = (c - n c_t) / (c + n c_t), r_p = (n^2 c - n c_t) / (n^2 c + n c_t),
+    R = (|r_s|^2 + |r_p|^2) / 2 (Born & Wolf §13.2). k = 0 reduces to ``dielectric``.
+    """
+    c = _cos("cos_theta_i", cos_theta_i)
+    eta = _params.color("eta", eta, 0.0, np.inf)
+    k = _params.color("k", k, 0.0, np.inf)
+    if np.any(eta <= 0.0):
+        raise ValueError(f"eta = {eta[eta <= 0.0].flat[0]!r} is outside the allowed range (0, inf)")
+    return _conductor(c, eta, k)
+
+
+def _conductor(cos_i: np.ndarray, eta: np.ndarray, k: np.ndarray) -> np.ndarray:
+    c = np.abs(cos_i)[..., None]
+    n2 = (eta + 1j * k) ** 2
+    n_cos_t = np.sqrt(n2 - (1.0 - c * c))
+    matched = n2 == 1.0  # no interface: the denominators below may vanish at grazing
+    r_s = (c - n_cos_t) / np.where(matched, 1.0, c + n_cos_t)
+    r_p = (n2 * c - n_cos_t) / np.where(matched, 1.0, n2 * c + n_cos_t)
+    return np.where(matched, 0.0, 0.5 * (np.abs(r_s) ** 2 + np.abs(r_p) ** 2))
+
+
+# --- Schlick family ----------------------------------------------------------------------
+def schlick(cos_theta, f0, f90=1.0, exponent=5.0) -> np.ndarray:
+    """Generalized Schlick reflectance F = f0 + (f90 - f0)(1 - |cos theta|)^exponent.
+
+    seed 001 eq. 4 (eq. 1 for f90 = 1, exponent = 5). ``f0``, ``f90`` colours in [0, 1];
+    ``exponent`` in (0, inf). Returns ``(..., 3)``.
+    """
+    c = _cos("cos_theta", cos_theta)
+    f0 = _params.color("f0", f0, 0.0, 1.0)
+    f90 = _params.color("f90", f90, 0.0, 1.0)
+    exponent = _params.real("exponent", exponent, 0.0, np.inf, lo_open=True)
+    return _schlick(np.abs(c), f0, f90, exponent)
+
+
+def _schlick(mu, f0, f90, exponent):
+    mu = np.asarray(mu)[..., None]
+    exponent = np.asarray(exponent)[..., None]
+    return f0 + (f90 - f0) * (1.0 - mu) ** exponent
+
+
+def f82(cos_theta, f0, f82) -> np.ndarray:
+    """Hoffman's original F82 model (seed 000 eqs. 2-5), unclamped.
+
+    ``f82`` is the reflectance h at cos theta = 1/7 (eq. 3); a = (r + (1 - r)(1 - 1/7)^5 - h)
+    / ((1/7)(1 - 1/7)^6) (eq. 4); F = r + (1 - r)(1 - mu)^5 - a mu (1 - mu)^6 (eq. 5). With a
+    white ``f82`` it exceeds 1 near grazing (seed 000 Fig. 4): it is returned as is so that
+    the comparison can be shown.
+    """
+    mu = np.abs(_cos("cos_theta", cos_theta))
+    r = _params.color("f0", f0, 0.0, 1.0)
+    h = _params.color("f82", f82, 0.0, 1.0)
+    schlick_max = _schlick(COS_THETA_MAX, r, 1.0, 5.0)
+    a = (schlick_max - h) / (COS_THETA_MAX * (1.0 - COS_THETA_MAX) ** 6)
+    mu = mu[..., None]
+    return r + (1.0 - r) * (1.0 - mu) ** 5 - a * mu * (1.0 - mu) ** 6
+
+
+def f82_tint(cos_theta, f0, tint, f90=1.0, exponent=5.0) -> np.ndarray:
+    """ASM F82-tint metal reflectance, in the generalized form of seed 001.
+
+    F = r0 + (r90 - r0)(1 - mu)^alpha - a mu (1 - mu)^6 (seed 001 eq. 5) with
+    a = (r0 + (r90 - r0)(1 - mu_max)^alpha)(1 - t) / (mu_max (1 - mu_max)^6) (eq. 6),
+    mu_max = 1/7 (seed 000 eq. 2). With f90 = 1 and exponent = 5 this is seed 000 eqs. 6-8;
+    with a white tint it is the (generalized) Schlick model.
+
+    Parameters
+    ----------
+    cos_theta : array_like (...), in [-1, 1] (|cos| is used).
+    f0 : colour in [0, 1]          reflectance at normal incidence r0 ("base color").
+    tint : colour in [0, inf)      multiplier t of the Schlick value at mu_max
+                                   ("specular edge color"; <= 1 for real metals, seed 000 §2).
+    f90 : colour in [0, 1]         reflectance at grazing incidence r90.
+    exponent : (...) in (0, inf)   interpolation exponent alpha.
+
+    Returns
+    -------
+    ndarray (..., 3), clamped to [0, 1] as the reference listing of seed 000 §2.4 does (the
+    polynomial can leave [0, 1] for extreme tints, e.g. f0 = tint = 0 at mu = 1/2).
+    """
+    mu = np.abs(_cos("cos_theta", cos_theta))
+    f0 = _params.color("f0", f0, 0.0, 1.0)
+    tint = _params.color("tint", tint, 0.0, np.inf)
+    f90 = _params.color("f90", f90, 0.0, 1.0)
+    exponent = _params.real("exponent", exponent, 0.0, np.inf, lo_open=True)
+    return _f82_tint(mu, f0, tint, f90, exponent)
+
+
+def _f82_tint(mu, f0, tint, f90, exponent):
+    schlick_max = _schlick(np.full(np.shape(exponent), COS_THETA_MAX), f0, f90, exponent)
+    a = schlick_max * (1.0 - tint) / (COS_THETA_MAX * (1.0 - COS_THETA_MAX) ** 6)
+    mu3 = np.asarray(mu)[..., None]
+    value = _schlick(mu, f0, f90, exponent) - a * mu3 * (1.0 - mu3) ** 6
+    return np.clip(value, 0.0, 1.0)

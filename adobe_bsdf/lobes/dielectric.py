@@ -1,0 +1,174 @@
+"""Rough dielectric interface: GGX microfacet reflection and refraction, both sides."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adobe_bsdf import _params
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.fresnel import _dielectric
+from adobe_bsdf.frame import dot, normalize, reflect, refract
+from adobe_bsdf.microfacet import GGX
+
+__all__ = ["Dielectric"]
+
+
+
+def _mirror_z(w, s):
+    """Mirror ``w`` through the tangent plane where ``s < 0`` (s = +-1, shape (...))."""
+    return np.concatenate([w[..., :2] * np.ones_like(s)[..., None], (w[..., 2] * s)[..., None]],
+                          axis=-1)
+
+
+class Dielectric(Lobe):
+    """Rough dielectric boundary (Walter et al. 2007) between index 1 above and ``eta`` below.
+
+    Reflection f_r = F(wo.h) D(h) G2 / (4 |cos o| |cos i|) (Walter eq. 20) and, for
+    radiance transport, refraction (Walter eq. 21 with eta_o on the side of ``wo``)
+
+        f_t = |wi.h| |wo.h| eta_o^2 (1 - F) D(h) G2 / (|cos o| |cos i| (eta_i wi.h + eta_o wo.h)^2)
+
+    with the generalized half vector h = -(eta_o wo + eta_i wi). Light may arrive from
+    either side: below the surface the interface has relative index 1 / eta. Sampling picks
+    visible normals of ``wo`` and then reflection with probability F(wo.m), else refraction.
+    Generalized reciprocity f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 holds.
+
+    Special cases: where both alphas are below ``ALPHA_MIN`` it is a smooth (delta)
+    interface; where ``eta == 1`` there is no interface at all, and every sample passes
+    straight through (wi = -wo, weight 1, a delta), at any roughness.
+
+    Parameters
+    ----------
+    eta : array_like in (0, inf)
+        n_below / n_above (e.g. 1.5 for glass under air, 1/1.5 for air under glass).
+    alpha_x, alpha_y : array_like in [0, inf)
+        GGX roughness (``alpha_y`` defaults to ``alpha_x``).
+    masking : {"correlated", "separable"}
+        See ``GGX``; the same G2 is used for reflection and transmission (design.md).
+    """
+
+    flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.GLOSSY | Flags.DELTA
+
+    def __init__(self, eta, alpha_x, alpha_y=None, masking: str = "correlated"):
+        self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
+        self.distribution = GGX(alpha_x, alpha_y, masking)
+
+    def __repr__(self) -> str:
+        d = self.distribution
+        return (f"Dielectric(eta={self.eta}, alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
+                f"masking={d.masking!r})")
+
+    # -- geometry shared by eval and pdf --------------------------------------------------
+    def _oriented(self, wo, wi):
+        """Mirror the pair so that ``wo`` is above; returns (wo', wi', eta', side)."""
+        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0)
+        eta = np.where(side > 0.0, self.eta, 1.0 / self.eta)
+        return _mirror_z(wo, side), _mirror_z(wi, side), eta, side
+
+    def _half_vector(self, wo, wi, eta):
+        """Reflection or generalized transmission half vector, turned to the upper side."""
+        reflection = (wi[..., 2] > 0.0)[..., None]
+        h = np.where(reflection, wo + wi, -(wo + eta[..., None] * wi))
+        h = normalize(h)
+        return np.where((h[..., 2] < 0.0)[..., None], -h, h)
+
+    def _terms(self, wo, wi):
+        """Everything eval and pdf need, in the frame where ``wo`` is above."""
+        d = self.distribution
+        wo, wi, eta, _ = self._oriented(wo, wi)
+        h = self._half_vector(wo, wi, eta)
+        cos_oh, cos_ih = dot(wo, h), dot(wi, h)
+        reflection = wi[..., 2] > 0.0
+        transmission = wi[..., 2] < 0.0
+        # facets must face wo (and, for refraction, be seen from below by wi)
+        valid = (wo[..., 2] > 0.0) & (cos_oh > 0.0) & ~d.smooth & (eta != 1.0)
+        valid &= reflection & (cos_ih > 0.0) | transmission & (cos_ih < 0.0)
+        F = _dielectric(cos_oh, eta)
+        den_t = cos_oh + eta * cos_ih  # (eta_o wo.h + eta_i wi.h) with eta_o = 1
+        den_t = np.where(valid & transmission, den_t, 1.0)
+        return wo, wi, eta, h, cos_oh, cos_ih, reflection, valid, F, den_t
+
+    def _eval(self, wo, wi):
+        d = self.distribution
+        wo, wi, eta, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
+        DV = d.D(h) * d.V(wo, wi)
+        f_r = F * DV
+        f_t = 4.0 * np.abs(cos_ih) * cos_oh * (1.0 - F) * DV / (den_t * den_t)
+        f = np.where(valid, np.where(reflection, f_r, f_t), 0.0)
+        return np.broadcast_to(f[..., None], f.shape + (3,))
+
+    def _pdf(self, wo, wi):
+        d = self.distribution
+        wo, wi, eta, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
+        Dv = d.pdf_visible(wo, h)
+        pdf_r = F * Dv / (4.0 * np.where(valid, cos_oh, 1.0))
+        pdf_t = (1.0 - F) * Dv * eta * eta * np.abs(cos_ih) / (den_t * den_t)
+        return np.where(valid, np.where(reflection, pdf_r, pdf_t), 0.0)
+
+    def _energy_scale(self, wo, wi):
+        """(eta_i / eta_o)^2 for transmission pairs, 1 for reflection (design.md)."""
+        eta = np.where(wo[..., 2] < 0.0, 1.0 / self.eta, self.eta)
+        return np.where(wo[..., 2] * wi[..., 2] < 0.0, eta * eta, 1.0)
+
+    # -- sampling -------------------------------------------------------------------------
+    def _branches(self, wo, u2):
+        """Both branches generated by the visible normal of ``u2``, in the frame where ``wo``
+        is above: reflected and refracted directions, F, and their weights and pdfs."""
+        d = self.distribution
+        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0)
+        eta = np.where(side > 0.0, self.eta, 1.0 / self.eta)
+        wo = _mirror_z(wo, side)
+        smooth = np.broadcast_to(d.smooth, np.broadcast_shapes(d.smooth.shape, eta.shape))
+        m = d.sample_visible(wo, u2)
+        cos_om = dot(wo, m)
+        F = _dielectric(cos_om, eta)
+        wr = reflect(wo, m)
+        wt, refracted = refract(wo, m, eta)
+        Dv = d.pdf_visible(wo, m)
+        ok = (wo[..., 2] > 0.0) & (cos_om > 0.0)
+        ok_r = ok & (wr[..., 2] > 0.0)
+        ok_t = ok & refracted & (wt[..., 2] < 0.0)
+        g_r = np.where(smooth, 1.0, d.G2_over_G1(wo, wr))
+        g_t = np.where(smooth, 1.0, d.G2_over_G1(wo, wt))
+        den_t = cos_om + eta * dot(wt, m)
+        den_t = np.where(ok_t, den_t, 1.0)
+        pdf_r = np.where(smooth, F, F * Dv / (4.0 * np.where(ok, cos_om, 1.0)))
+        pdf_t = np.where(smooth, 1.0 - F,
+                         (1.0 - F) * Dv * eta * eta * np.abs(dot(wt, m)) / (den_t * den_t))
+        return side, eta, smooth, F, (wr, ok_r, g_r, pdf_r), (wt, ok_t, g_t, pdf_t)
+
+    def _sample(self, wo, u):
+        side, eta, smooth, F, (wr, ok_r, g_r, pdf_r), (wt, ok_t, g_t, pdf_t) = \
+            self._branches(wo, u[..., 1:3])
+        choose_r = u[..., 0] < F
+        wi = np.where(choose_r[..., None], wr, wt)
+        ok = np.where(choose_r, ok_r, ok_t)
+        weight = np.where(choose_r, g_r, g_t / (eta * eta))  # radiance: eta_o^2 / eta_i^2
+        pdf = np.where(choose_r, pdf_r, pdf_t)
+        lobe = np.where(smooth, int(Flags.DELTA), int(Flags.GLOSSY))
+        flags = lobe | np.where(choose_r, int(Flags.REFLECTION), int(Flags.TRANSMISSION))
+        # index-matched boundary: no interface, the light passes straight through
+        matched = eta == 1.0
+        wi = np.where(matched[..., None], -_mirror_z(wo, side), wi)
+        ok = np.where(matched, wo[..., 2] != 0.0, ok)
+        weight = np.where(matched, 1.0, weight)
+        pdf = np.where(matched, 1.0, pdf)
+        flags = np.where(matched, int(Flags.TRANSMISSION | Flags.DELTA), flags)
+        ok = ok & (pdf > 0.0)
+        wi = _mirror_z(wi, side)
+        weight = np.where(ok, weight, 0.0)
+        return BSDFSample(
+            wi=np.where(ok[..., None], wi, 0.0),
+            weight=np.broadcast_to(weight[..., None], weight.shape + (3,)),
+            pdf=np.where(ok, pdf, 0.0),
+            flags=np.where(ok, flags, int(Flags.NONE)),
+        )
+
+    def _albedo_integrand(self, wo, u2):
+        """Energy of both branches of the visible normal drawn from ``u2``:
+        F G2_r / G1 + (1 - F) G2_t / G1 (1 for the smooth and index-matched cases)."""
+        side, eta, smooth, F, (wr, ok_r, g_r, _), (wt, ok_t, g_t, _) = self._branches(wo, u2)
+        e = F * np.where(ok_r, g_r, 0.0) + (1.0 - F) * np.where(ok_t, g_t, 0.0)
+        e = np.where(eta == 1.0, 1.0, e)
+        e = np.where(wo[..., 2] != 0.0, e, 0.0)
+        return np.broadcast_to(e[..., None], e.shape + (3,))

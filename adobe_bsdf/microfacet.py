@@ -1,0 +1,190 @@
+"""Anisotropic GGX (Trowbridge–Reitz) microfacet distribution with Smith masking.
+
+Public API
+----------
+``GGX(alpha_x, alpha_y=None, masking="correlated")`` with ``D(m)``, ``lambda_(w)``, ``G1(w)``,
+``G2(wo, wi)``, ``sample_visible(w, u2)``, ``pdf_visible(w, m)``.
+``asm_alpha(roughness, anisotropy=0)``: ASM (roughness, anisotropy) -> (alpha_x, alpha_y).
+``ALPHA_MIN``: alphas below it are smooth (see ``GGX``).
+
+All functions take local-frame unit vectors ``(..., 3)`` (normal +z, alpha_x along +x) and
+broadcast against the distribution's parameters.
+
+References
+----------
+Walter, Marschner, Li, Torrance 2007, "Microfacet models for refraction through rough surfaces".
+Heitz 2014, "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2):
+eqs. 72 and 86 (anisotropic GGX Lambda), eq. 99 (height-correlated G2), eq. 43 (G1 G1).
+Heitz 2018, "Sampling the GGX distribution of visible normals", JCGT 7(4), eq. 3 (D_wo).
+Dupuy, Benyoub 2023, "Sampling visible GGX normals with spherical caps", CGF 42(8), Listing 3.
+[000] ASM (``shared/seeds/000_dc1170558b4eb881.txt``) §3 eqs. 9-10 (``asm_alpha``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adobe_bsdf import _params
+from adobe_bsdf.frame import dot, normalize
+
+__all__ = ["GGX", "asm_alpha", "ALPHA_MIN", "MASKING"]
+
+#: smallest alpha of a rough lobe. Where both alphas are below it the lobe is smooth (a delta
+#: lobe); where only one is, that axis is raised to ALPHA_MIN (docs/conventions.md).
+ALPHA_MIN = 1e-8
+
+#: masking-shadowing forms: height-correlated Smith (pbrt-v4) or separable G1 G1 (Mitsuba 3)
+MASKING = ("correlated", "separable")
+
+
+def asm_alpha(roughness, anisotropy=0.0):
+    """ASM anisotropic roughness: alpha_x = r^2 + a^4, alpha_y = r^2 (seed 000 eqs. 9-10).
+
+    ``roughness`` r and ``anisotropy`` a in [0, 1]. Returns ``(alpha_x, alpha_y)``.
+    """
+    r = _params.real("roughness", roughness, 0.0, 1.0)
+    a = _params.real("anisotropy", anisotropy, 0.0, 1.0)
+    return r * r + a**4, np.broadcast_to(r * r, np.broadcast_shapes(r.shape, a.shape)).copy()
+
+
+class GGX:
+    """Anisotropic GGX normal distribution with Smith masking-shadowing.
+
+    Parameters
+    ----------
+    alpha_x, alpha_y : array_like, in [0, inf)
+        Roughness along the tangent (x) and bitangent (y); ``alpha_y`` defaults to ``alpha_x``.
+    masking : {"correlated", "separable"}
+        ``G2`` form: height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014 eq. 99;
+        pbrt-v4) or separable G1(wo) G1(wi) (Heitz 2014 eq. 43; Mitsuba 3).
+
+    Notes
+    -----
+    ``smooth`` marks elements whose alphas are both below ``ALPHA_MIN``: there D is a Dirac
+    delta, so ``D`` and ``pdf_visible`` return 0, ``sample_visible`` returns the normal and
+    ``G1`` / ``G2`` are 1 (0 at exactly grazing directions).
+    """
+
+    def __init__(self, alpha_x, alpha_y=None, masking: str = "correlated"):
+        ax = _params.real("alpha_x", alpha_x, 0.0, np.inf)
+        ay = ax if alpha_y is None else _params.real("alpha_y", alpha_y, 0.0, np.inf)
+        ax, ay = np.broadcast_arrays(ax, ay)
+        self.smooth = (ax < ALPHA_MIN) & (ay < ALPHA_MIN)
+        self.alpha_x = np.where(self.smooth, ax, np.maximum(ax, ALPHA_MIN))
+        self.alpha_y = np.where(self.smooth, ay, np.maximum(ay, ALPHA_MIN))
+        self.masking = _params.choice("masking", masking, MASKING)
+        # safe alphas for the divisions below (the smooth elements are masked afterwards)
+        self._ax = np.where(self.smooth, 1.0, self.alpha_x)
+        self._ay = np.where(self.smooth, 1.0, self.alpha_y)
+
+    def __repr__(self) -> str:
+        return f"GGX(alpha_x={self.alpha_x}, alpha_y={self.alpha_y}, masking={self.masking!r})"
+
+    # -- distribution ---------------------------------------------------------------------
+    def D(self, m) -> np.ndarray:
+        """Normal distribution D(m) (Walter et al. 2007 eq. 33, anisotropic form).
+
+        D(m) = 1 / (pi ax ay ((mx/ax)^2 + (my/ay)^2 + mz^2)^2) for mz > 0, else 0.
+        """
+        m = np.asarray(m, dtype=np.float64)
+        e = (m[..., 0] / self._ax) ** 2 + (m[..., 1] / self._ay) ** 2 + m[..., 2] ** 2
+        ok = (m[..., 2] > 0.0) & ~self.smooth
+        return np.where(ok, 1.0 / (np.pi * self._ax * self._ay * np.where(ok, e * e, 1.0)), 0.0)
+
+    def _projected_alpha(self, w):
+        """|w.z| and S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) (so Lambda = (S/|wz| - 1)/2)."""
+        z = np.abs(w[..., 2])
+        s2 = (self.alpha_x * w[..., 0]) ** 2 + (self.alpha_y * w[..., 1]) ** 2
+        return z, np.sqrt(z * z + s2)
+
+    def lambda_(self, w) -> np.ndarray:
+        """Smith Lambda(w) = (sqrt(1 + (ax^2 wx^2 + ay^2 wy^2)/wz^2) - 1) / 2 (Heitz 2014 eq. 86).
+
+        Written without cancellation as (S - |wz|) / (2 |wz|) = s^2 / (2 |wz| (|wz| + S)).
+        +inf at wz = 0 (the exact limit); 0 where the distribution is smooth.
+        """
+        w = np.asarray(w, dtype=np.float64)
+        z, s = self._projected_alpha(w)
+        s2 = s * s - z * z
+        with np.errstate(divide="ignore"):
+            lam = np.where(z > 0.0, s2 / (2.0 * z * (z + s)), np.inf)
+        return np.where(self.smooth & (z > 0.0), 0.0, lam)
+
+    def G1(self, w) -> np.ndarray:
+        """Smith masking G1(w) = 1 / (1 + Lambda(w)) = 2 |wz| / (|wz| + S(w)); 0 at wz = 0."""
+        w = np.asarray(w, dtype=np.float64)
+        z, s = self._projected_alpha(w)
+        return np.where(z > 0.0, 2.0 * z / np.where(z > 0.0, z + s, 1.0), 0.0)
+
+    def G2(self, wo, wi) -> np.ndarray:
+        """Masking-shadowing of the pair (reflection or transmission; |cos| is used).
+
+        correlated: 1 / (1 + Lambda(wo) + Lambda(wi)) = 2 |zo| |zi| / (|zi| S_o + |zo| S_i);
+        separable: G1(wo) G1(wi).
+        """
+        if self.masking == "separable":
+            return self.G1(wo) * self.G1(wi)
+        zo, so = self._projected_alpha(np.asarray(wo, dtype=np.float64))
+        zi, si = self._projected_alpha(np.asarray(wi, dtype=np.float64))
+        den = zi * so + zo * si
+        return np.where(den > 0.0, 2.0 * zo * zi / np.where(den > 0.0, den, 1.0), 0.0)
+
+    def V(self, wo, wi) -> np.ndarray:
+        """Visibility V = G2(wo, wi) / (4 |cos theta_o| |cos theta_i|), without cancellation.
+
+        correlated: 1 / (2 (|zi| S_o + |zo| S_i)); separable: 1 / ((|zo| + S_o)(|zi| + S_i)).
+        Finite at grazing angles (0 only if both directions are grazing and the surface
+        smooth).
+        """
+        zo, so = self._projected_alpha(np.asarray(wo, dtype=np.float64))
+        zi, si = self._projected_alpha(np.asarray(wi, dtype=np.float64))
+        if self.masking == "separable":
+            den = (zo + so) * (zi + si)
+        else:
+            den = 2.0 * (zi * so + zo * si)
+        return np.where(den > 0.0, 1.0 / np.where(den > 0.0, den, 1.0), 0.0)
+
+    def G2_over_G1(self, wo, wi) -> np.ndarray:
+        """G2(wo, wi) / G1(wo): the weight of visible-normal sampling without Fresnel.
+
+        correlated: |zi| (|zo| + S_o) / (|zi| S_o + |zo| S_i); separable: G1(wi).
+        """
+        if self.masking == "separable":
+            return self.G1(wi)
+        zo, so = self._projected_alpha(np.asarray(wo, dtype=np.float64))
+        zi, si = self._projected_alpha(np.asarray(wi, dtype=np.float64))
+        den = zi * so + zo * si
+        return np.where(den > 0.0, zi * (zo + so) / np.where(den > 0.0, den, 1.0), 0.0)
+
+    # -- visible normals ------------------------------------------------------------------
+    def pdf_visible(self, w, m) -> np.ndarray:
+        """Density of visible normals D_w(m) = G1(w) max(0, w.m) D(m) / |wz| (Heitz 2018 eq. 3).
+
+        Written as 2 max(0, w'.m) D(m) / (|wz| + S(w)), finite at grazing ``w``. ``w`` is
+        first turned to the upper hemisphere (w' = sign(wz) w), as ``sample_visible`` does.
+        """
+        w = np.asarray(w, dtype=np.float64)
+        m = np.asarray(m, dtype=np.float64)
+        z, s = self._projected_alpha(w)
+        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
+        cos_wm = np.maximum(0.0, sign * dot(w, m))
+        return np.where(s > 0.0, 2.0 * cos_wm * self.D(m) / np.where(s > 0.0, z + s, 1.0), 0.0)
+
+    def sample_visible(self, w, u2) -> np.ndarray:
+        """Sample a microfacet normal m with density ``pdf_visible(w, m)``.
+
+        Spherical-cap method of Dupuy & Benyoub 2023: stretch w' = sign(wz) w to the
+        hemisphere configuration, sample the cap of the unit sphere cut by the plane
+        z = -w_h.z, add w_h, unstretch. ``u2`` has shape ``(..., 2)``.
+        """
+        w = np.asarray(w, dtype=np.float64)
+        u2 = np.asarray(u2, dtype=np.float64)
+        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)[..., None]
+        ax, ay = self._ax, self._ay
+        wh = normalize(np.stack([ax * w[..., 0], ay * w[..., 1], w[..., 2]], axis=-1) * sign)
+        phi = 2.0 * np.pi * u2[..., 0]
+        z = (1.0 - u2[..., 1]) * (1.0 + wh[..., 2]) - wh[..., 2]
+        sin_t = np.sqrt(np.clip(1.0 - z * z, 0.0, 1.0))
+        h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), z], axis=-1) + wh
+        m = normalize(np.stack([ax * h[..., 0], ay * h[..., 1], h[..., 2]], axis=-1))
+        return np.where(self.smooth[..., None], np.array([0.0, 0.0, 1.0]), m)
