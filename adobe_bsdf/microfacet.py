@@ -106,8 +106,7 @@ class GGX:
         w = np.asarray(w, dtype=np.float64)
         z, s = self._projected_alpha(w)
         s2 = s * s - z * z
-        with np.errstate(divide="ignore"):
-            lam = np.where(z > 0.0, s2 / (2.0 * z * (z + s)), np.inf)
+        lam = np.where(z > 0.0, s2 / np.where(z > 0.0, 2.0 * z * (z + s), 1.0), np.inf)
         return np.where(self.smooth & (z > 0.0), 0.0, lam)
 
     def G1(self, w) -> np.ndarray:

@@ -1,0 +1,176 @@
+"""Fresnel models against closed forms, independent formulations and published values."""
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+import adobe_bsdf as ab
+from tests.tolerances import EXACT, PUBLISHED_5
+
+F = ab.fresnel
+GOLD_ETA = np.array([0.143, 0.374, 1.442])
+GOLD_K = np.array([3.983, 2.385, 1.603])
+
+
+def born_wolf_conductor(mu, n, k):
+    """Real-arithmetic form of the absorbing-medium Fresnel equations (Born & Wolf §13.2):
+    a^2 + b^2 = sqrt((n^2 - k^2 - s^2)^2 + 4 n^2 k^2), a^2 = (a^2+b^2 + n^2 - k^2 - s^2)/2."""
+    s2 = 1.0 - mu * mu
+    t0 = n * n - k * k - s2
+    a2b2 = np.sqrt(t0 * t0 + 4.0 * n * n * k * k)
+    a = np.sqrt(0.5 * (a2b2 + t0))
+    t1 = a2b2 + mu * mu
+    t2 = 2.0 * mu * a
+    rs = (t1 - t2) / (t1 + t2)
+    t3 = mu * mu * a2b2 + s2 * s2
+    t4 = t2 * s2
+    rp = rs * (t3 - t4) / (t3 + t4)
+    return 0.5 * (rs + rp)
+
+
+# --- dielectric --------------------------------------------------------------------------
+@pytest.mark.parametrize("eta", [1.01, 1.33, 1.5, 2.4, 1 / 1.5])
+def test_dielectric_normal_incidence(eta):
+    assert F.dielectric(1.0, eta) == pytest.approx(((eta - 1) / (eta + 1)) ** 2, abs=EXACT)
+
+
+@pytest.mark.parametrize("eta", [1.33, 1.5, 2.0])
+def test_dielectric_both_sides(eta):
+    mu = np.linspace(0.0, 1.0, 101)
+    # from below, the interface is seen with relative index 1/eta
+    np.testing.assert_allclose(F.dielectric(-mu, eta), F.dielectric(mu, 1.0 / eta), atol=EXACT)
+    # Stokes reciprocity: R at the incident angle equals R at the refracted angle, other side
+    cos_t = np.sqrt(1.0 - (1.0 - mu**2) / eta**2)
+    np.testing.assert_allclose(F.dielectric(mu, eta), F.dielectric(-cos_t, eta), atol=1e-12)
+
+
+def test_dielectric_total_internal_reflection():
+    eta = 1 / 1.5
+    critical = np.sqrt(1.0 - eta**2)
+    assert F.dielectric(critical * 0.999, eta) == 1.0
+    assert F.dielectric(critical * 1.001, eta) < 1.0
+    assert F.dielectric(0.0, eta) == 1.0
+
+
+def test_dielectric_index_matched_and_limits():
+    mu = np.array([0.0, 1e-8, 0.3, 1.0])
+    np.testing.assert_array_equal(F.dielectric(mu, 1.0), 0.0)
+    # eta -> 1: reflectance -> 0 away from grazing, continuously
+    assert 0.0 < F.dielectric(0.5, 1.0 + 1e-9) < 1e-17  # O((eta - 1)^2)
+    assert F.dielectric(0.0, 1.5) == pytest.approx(1.0, abs=EXACT)
+
+
+@pytest.mark.parametrize(("eta", "expected"), [(1.33, 0.06593), (1.5, 0.09178), (1.6, 0.10625),
+                                               (2.0, 0.16060), (1 / 1.5, 0.59635)])
+def test_dielectric_hemispherical_albedo_published(eta, expected):
+    """shared/reference/published_values.md §4 (5 significant digits)."""
+    value = 2.0 * quad(lambda m: F.dielectric(m, eta) * m, 0, 1, epsabs=1e-13, limit=200)[0]
+    assert value == pytest.approx(expected, abs=PUBLISHED_5)
+
+
+# --- conductor ---------------------------------------------------------------------------
+def test_conductor_against_real_arithmetic_form():
+    mu = np.linspace(0.0, 1.0, 257)
+    value = F.conductor(mu, GOLD_ETA, GOLD_K)
+    expected = born_wolf_conductor(mu[:, None], GOLD_ETA, GOLD_K)
+    np.testing.assert_allclose(value, expected, rtol=1e-12, atol=EXACT)
+
+
+def test_conductor_normal_incidence_and_dielectric_limit():
+    n, k = GOLD_ETA, GOLD_K
+    np.testing.assert_allclose(F.conductor(1.0, n, k), ((n - 1) ** 2 + k**2) / ((n + 1) ** 2 + k**2),
+                               atol=EXACT)
+    mu = np.linspace(0, 1, 33)
+    for eta in (1.5, 1 / 1.5):
+        np.testing.assert_allclose(F.conductor(mu, eta, 0.0)[:, 0], F.dielectric(mu, eta),
+                                   atol=1e-14)
+    np.testing.assert_array_equal(F.conductor(mu, 1.0, 0.0), 0.0)
+
+
+# --- Schlick, F82, F82-tint --------------------------------------------------------------
+def test_schlick_average_closed_form():
+    """2 int F_Schlick mu dmu = F0 + (1 - F0)/21 (published_values.md §3)."""
+    for f0 in (0.04, 0.5, 0.9):
+        value = 2 * quad(lambda m: F.schlick(m, f0)[0] * m, 0, 1, epsabs=1e-14)[0]
+        assert value == pytest.approx(f0 + (1 - f0) / 21, abs=1e-12)
+
+
+@pytest.mark.parametrize(("f0", "tint", "expected"), [(0.9, 0.8, 0.878249), (0.5, 0.9, 0.513564)])
+def test_f82_tint_average_published(f0, tint, expected):
+    """OpenPBR footnote avg_fresnel_f82 values (published_values.md §3)."""
+    value = 2 * quad(lambda m: F.f82_tint(m, f0, tint)[0] * m, 0, 1, epsabs=1e-14)[0]
+    assert value == pytest.approx(expected, abs=1e-6)
+    b = (f0 + (1 - f0) * (6 / 7) ** 5) * (1 - tint) / ((1 / 7) * (6 / 7) ** 6)
+    assert value == pytest.approx(f0 + (1 - f0) / 21 - b / 126, abs=1e-12)
+
+
+def test_f82_tint_matches_the_reference_listing_form():
+    """seed 000 §2.4 factorises F = r + (1 - r - b mu (1 - mu)) (1 - mu)^5."""
+    mu = np.linspace(0, 1, 101)[:, None]
+    r = np.array([0.9868, 0.7099, 0.3148])
+    t = np.array([0.9929, 0.9636, 0.9099])
+    b = (r + (1 - r) * (6 / 7) ** 5) * (1 - t) / ((1 / 7) * (6 / 7) ** 6)
+    listing = np.clip(r + (1 - r - b * mu * (1 - mu)) * (1 - mu) ** 5, 0, 1)
+    np.testing.assert_allclose(F.f82_tint(mu[:, 0], r, t), listing, atol=EXACT)
+
+
+def test_f82_tint_defining_properties():
+    mu = np.linspace(0, 1, 65)
+    f0, tint = np.array([0.95, 0.64, 0.54]), np.array([0.8, 0.9, 0.7])
+    # white tint is Schlick; the value at mu_max is tint x Schlick (seed 000 eq. 6)
+    np.testing.assert_allclose(F.f82_tint(mu, f0, 1.0), F.schlick(mu, f0), atol=EXACT)
+    np.testing.assert_allclose(F.f82_tint(1 / 7, f0, tint), tint * F.schlick(1 / 7, f0), atol=EXACT)
+    # generalized (seed 001 eqs. 5-6): same property with r90 and exponent
+    f90, alpha = np.array([0.9, 0.8, 1.0]), 3.0
+    np.testing.assert_allclose(F.f82_tint(1 / 7, f0, tint, f90, alpha),
+                               tint * F.schlick(1 / 7, f0, f90, alpha), atol=EXACT)
+    np.testing.assert_allclose(F.f82_tint(mu, f0, 1.0, f90, alpha), F.schlick(mu, f0, f90, alpha),
+                               atol=EXACT)
+    np.testing.assert_allclose(F.f82_tint(1.0, f0, tint, f90, alpha), f0, atol=EXACT)
+    np.testing.assert_allclose(F.f82_tint(0.0, f0, tint, f90, alpha), f90, atol=EXACT)
+
+
+def test_f82_original_model():
+    f0, h = np.array([0.9, 0.6, 0.3]), np.array([0.85, 0.55, 0.35])
+    np.testing.assert_allclose(F.f82(1 / 7, f0, h), h, atol=EXACT)
+    np.testing.assert_allclose(F.f82(1.0, f0, h), f0, atol=EXACT)
+    # seed 000 Fig. 4: with a white F82 the original model exceeds 1 ("glowing edges")
+    assert F.f82(0.05, 0.5, 1.0).max() > 1.0
+
+
+def test_f82_tint_is_clamped_where_the_polynomial_leaves_unit_interval():
+    assert F.f82_tint(0.5, 0.0, 0.0)[0] == 0.0  # polynomial value is negative there
+
+
+# --- broadcasting and bad input ----------------------------------------------------------
+@pytest.mark.parametrize("shape", [(), (6,), (2, 3)])
+def test_broadcasting(shape):
+    mu = np.full(shape, 0.3)
+    assert F.dielectric(mu, 1.5).shape == shape
+    assert F.conductor(mu, GOLD_ETA, GOLD_K).shape == (*shape, 3)
+    assert F.schlick(mu, 0.04).shape == (*shape, 3)
+    assert F.f82_tint(mu, np.full((*shape, 3), 0.9), 0.8).shape == (*shape, 3)
+    assert F.dielectric(0.3, np.full(shape, 1.5)).shape == shape
+
+
+@pytest.mark.parametrize(("call", "name"), [
+    (lambda: F.dielectric(0.5, 0.0), "eta"),
+    (lambda: F.dielectric(0.5, np.nan), "eta"),
+    (lambda: F.dielectric(1.5, 1.5), "cos_theta_i"),
+    (lambda: F.conductor(0.5, -1.0, 1.0), "eta"),
+    (lambda: F.conductor(0.5, 1.0, -1.0), "k"),
+    (lambda: F.schlick(0.5, 1.2), "f0"),
+    (lambda: F.schlick(0.5, 0.5, exponent=0.0), "exponent"),
+    (lambda: F.f82_tint(0.5, 0.5, -0.1), "tint"),
+    (lambda: F.f82_tint(0.5, [0.5, 0.5], 1.0), "f0"),
+])
+def test_bad_input_names_parameter(call, name):
+    with pytest.raises(ValueError, match=name):
+        call()
+
+
+def test_extremes_are_finite():
+    mu = np.array([-1.0, -1e-8, 0.0, 1e-8, 1.0])
+    for eta in (1e-3, 1 / 1.5, 1.0, 1.0 + 1e-12, 1.5, 1e3):
+        assert np.all(np.isfinite(F.dielectric(mu, eta)))
+    assert np.all(np.isfinite(F.conductor(mu, [1e-3, 1.0, 50.0], [0.0, 1e-9, 100.0])))

@@ -1,0 +1,16 @@
+"""Every tolerance of the test suite, in one place, with the reason for its size."""
+
+#: float64 closed forms evaluated two different ways
+EXACT = 1e-12
+#: reciprocity (acceptance: 1e-12 relative)
+RECIPROCITY = 1e-12
+#: adaptive quadrature asked for rtol 1e-9..1e-10, compared with closed forms (acceptance 1e-6)
+FURNACE = 1e-6
+#: independent direction-space quadrature (scipy) vs sample-space cubature
+QUADRATURE = 1e-6
+#: values re-typed from a paper with 4-6 significant digits
+PUBLISHED_5 = 1e-5
+#: chi-square significance before the Šidák correction (acceptance: p > 0.01)
+CHI2_ALPHA = 0.01
+#: Mitsuba 3 computes in float32 (acceptance: 1e-5 relative)
+MITSUBA = 1e-5
