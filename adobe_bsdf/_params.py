@@ -23,7 +23,9 @@ def real(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} = {value!r} is not a real number or array of them") from exc
-    bad = ~np.isfinite(arr) | (arr <= lo if lo_open else arr < lo) | (arr >= hi if hi_open else arr > hi)
+    below = arr <= lo if lo_open else arr < lo
+    above = arr >= hi if hi_open else arr > hi
+    bad = ~np.isfinite(arr) | below | above
     if np.any(bad):
         left = "(" if lo_open else "["
         right = ")" if hi_open else "]"
@@ -38,7 +40,8 @@ def color(name: str, value, lo: float = -np.inf, hi: float = np.inf) -> np.ndarr
     if arr.ndim == 0 or arr.shape[-1] == 1:
         return np.repeat(arr[..., None] if arr.ndim == 0 else arr, 3, axis=-1)
     if arr.shape[-1] != 3:
-        raise ValueError(f"{name} has shape {arr.shape}; a colour is a scalar or has a trailing axis of 3")
+        raise ValueError(f"{name} has shape {arr.shape}; a colour is a scalar or has a "
+                         "trailing axis of 3")
     return arr
 
 

@@ -143,7 +143,7 @@ class Lobe:
         return mean, weight.std(axis=0, ddof=1) / np.sqrt(n_samples)
 
     def _energy_scale(self, wo, wi):
-        """Factor turning a radiance-mode value into energy: (eta_i / eta_o)^2 across an interface."""
+        """Factor from radiance to energy: (eta_i / eta_o)^2 across an interface, else 1."""
         return np.ones(np.broadcast_shapes(wo.shape, wi.shape)[:-1])
 
     def _albedo_table(self, wo):

@@ -30,6 +30,8 @@ class CheckCase:
     width : float
         Characteristic angular width (radians) of the sharpest sampled peak, used to focus
         the chi-square grid (0: broad lobe).
+    peak : callable or None
+        ``peak(wo) -> (3,)``: direction of that peak (e.g. the mirror direction).
     tags : tuple of str
         Free-form tags (e.g. ``"fast"`` for the cases the command runs by default).
     """
@@ -39,6 +41,7 @@ class CheckCase:
     cos_theta_o: tuple = (1.0, 0.5, 0.05)
     expected_albedo: Callable | None = None
     width: float = 0.0
+    peak: Callable | None = None
     tags: tuple = field(default=("fast",))
 
 

@@ -65,8 +65,9 @@ def _dot(a, b):
 
 
 def _ggx_d(m, ax, ay):
-    return 1.0 / (np.pi * ax * ay * ((m[..., 0] / ax) ** 2 + (m[..., 1] / ay) ** 2
-                                     + m[..., 2] ** 2) ** 2)
+    return 1.0 / (
+        np.pi * ax * ay * ((m[..., 0] / ax) ** 2 + (m[..., 1] / ay) ** 2 + m[..., 2] ** 2) ** 2
+    )
 
 
 def _smith_g1(v, m, ax, ay):
@@ -106,8 +107,9 @@ def _reference(wo, wi, ax, ay, eta=None):
     f_r = fresnel * d * g / (4.0 * abs_o * abs_i)
     f_t = (1.0 - fresnel) * d * g * np.abs(cos_o * cos_i) / (abs_o * abs_i * denominator**2)
     visible = g1_o * np.abs(cos_o) * d / abs_o
-    jacobian = np.where(reflect, 1.0 / (4.0 * np.abs(cos_i)), ratio**2 * np.abs(cos_i)
-                        / denominator**2)
+    jacobian = np.where(
+        reflect, 1.0 / (4.0 * np.abs(cos_i)), ratio**2 * np.abs(cos_i) / denominator**2
+    )
     pdf = visible * jacobian * np.where(reflect, fresnel, 1.0 - fresnel)
     if eta is None:
         valid = reflect & (wo[..., 2] > 0)
@@ -126,19 +128,25 @@ def _compare(name, ours, theirs, wo, wi):
     one_pair = one.reshape(len(wo), -1).any(axis=-1)
     assert not one_pair.any(), (
         f"{name}: zero at {one_pair.sum()} pairs in one library only, e.g. "
-        + "; ".join(f"wo={wo[j]}, wi={wi[j]}: ours={ours[j]}, mitsuba={theirs[j]}"
-                    for j in np.flatnonzero(one_pair)[:3]))
+        + "; ".join(
+            f"wo={wo[j]}, wi={wi[j]}: ours={ours[j]}, mitsuba={theirs[j]}"
+            for j in np.flatnonzero(one_pair)[:3]
+        )
+    )
     rel = np.zeros_like(big)
     rel[both] = np.abs(ours[both] - theirs[both]) / big[both]
     worst = np.unravel_index(np.argmax(rel), rel.shape)[0]
-    detail = (f"{name}: max relative difference {rel.max():.3e} at wo={wo[worst]}, "
-              f"wi={wi[worst]}: ours={ours[worst]}, mitsuba={theirs[worst]}")
+    detail = (
+        f"{name}: max relative difference {rel.max():.3e} at wo={wo[worst]}, "
+        f"wi={wi[worst]}: ours={ours[worst]}, mitsuba={theirs[worst]}"
+    )
     return float(rel.max()), int(both.reshape(len(wo), -1).all(axis=-1).sum()), detail
 
 
 def _crosscheck(key, ours, theirs, wo, wi, record_property):
-    eval_rel, nonzero, eval_detail = _compare(f"{key} eval", ours.eval(wo, wi),
-                                              theirs.eval(wo, wi), wo, wi)
+    eval_rel, nonzero, eval_detail = _compare(
+        f"{key} eval", ours.eval(wo, wi), theirs.eval(wo, wi), wo, wi
+    )
     pdf_rel, _, pdf_detail = _compare(f"{key} pdf", ours.pdf(wo, wi), theirs.pdf(wo, wi), wo, wi)
     MEASURED[key] = {"eval": eval_rel, "pdf": pdf_rel, "pairs": nonzero}
     record_property("max_rel_eval", eval_rel)
@@ -199,9 +207,15 @@ def test_adapter_dielectric_generalized_reciprocity(eta):
     assert rel <= RTOL, detail
 
 
-@pytest.mark.parametrize(("eta", "theta", "side"), [
-    ("eta=1.5", 0.0, 1.0), ("eta=1.5", 1.0, -1.0), ("eta=1/1.5", 1.0, 1.0),
-    ("eta=1/1.5", 0.0, -1.0)])
+@pytest.mark.parametrize(
+    ("eta", "theta", "side"),
+    [
+        ("eta=1.5", 0.0, 1.0),
+        ("eta=1.5", 1.0, -1.0),
+        ("eta=1/1.5", 1.0, 1.0),
+        ("eta=1/1.5", 0.0, -1.0),
+    ],
+)
 def test_adapter_dielectric_energy(eta, theta, side):
     """Energy R + T = integral of f (eta_i/eta_o)^2 |cos theta_i| is <= 1 and matches
     Mitsuba's own sampling weights (times ``bs.eta^2``, as its integrators undo the radiance
@@ -241,8 +255,9 @@ def test_conductor_matches_mitsuba(metal, alpha, record_property):
         theirs = mts.mitsuba_conductor(*alpha)
     else:
         eta, k = (np.array(v) for v in METALS[metal])
-        ours = ab.lobes.Conductor(*alpha, fresnel=lambda c: ab.fresnel.conductor(c, eta, k),
-                                  masking="separable")
+        ours = ab.lobes.Conductor(
+            *alpha, fresnel=lambda c: ab.fresnel.conductor(c, eta, k), masking="separable"
+        )
         theirs = mts.mitsuba_conductor(*alpha, eta=eta, k=k)
     wo, wi = mts.crosscheck_pairs(N_PAIRS, *alpha, rng=10)
     _crosscheck(f"conductor {metal} alpha={alpha}", ours, theirs, wo, wi, record_property)

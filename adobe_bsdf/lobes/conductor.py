@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
+from adobe_bsdf import fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import dot, normalize, reflect
 from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Conductor"]
 
@@ -84,3 +88,22 @@ class Conductor(Lobe):
             pdf=np.where(ok, pdf, 0.0),
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
+
+
+def _mirror(wo):
+    return np.array([-wo[0], -wo[1], wo[2]])
+
+
+def _one_minus_ln2(wo):
+    """alpha = 1, F = 1, normal view: albedo 1 - ln 2 (shared/reference/published_values.md §3)."""
+    return 1.0 - np.log(2.0) if wo[2] == 1.0 else None
+
+
+register(
+    CheckCase("Conductor a=1 F=1", lambda: Conductor(1.0), cos_theta_o=(1.0, 0.5, 0.05),
+              expected_albedo=_one_minus_ln2),
+    CheckCase("Conductor a=0.1 F=1", lambda: Conductor(0.1), width=0.2, peak=_mirror),
+    CheckCase("Conductor a=(0.5,0.1) gold", lambda: Conductor(
+        0.5, 0.1, fresnel=partial(fresnel.conductor, eta=(0.143, 0.374, 1.442),
+                                  k=(3.983, 2.385, 1.603)))),
+)

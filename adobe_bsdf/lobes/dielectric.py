@@ -6,9 +6,10 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
-from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.frame import dot, normalize, reflect, refract
+from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Dielectric"]
 
@@ -172,3 +173,21 @@ class Dielectric(Lobe):
         e = np.where(eta == 1.0, 1.0, e)
         e = np.where(wo[..., 2] != 0.0, e, 0.0)
         return np.broadcast_to(e[..., None], e.shape + (3,))
+
+
+def _straight_through(wo):
+    return -np.asarray(wo, dtype=np.float64)
+
+
+register(
+    CheckCase("Dielectric eta=1.5 a=0.3", lambda: Dielectric(1.5, 0.3),
+              cos_theta_o=(1.0, 0.5, 0.05, -0.5)),
+    CheckCase("Dielectric eta=1/1.5 a=(0.5,0.2)", lambda: Dielectric(1 / 1.5, 0.5, 0.2),
+              cos_theta_o=(0.9, 0.3, -0.7)),
+    CheckCase("Dielectric eta=1.01 a=0.5", lambda: Dielectric(1.01, 0.5),
+              cos_theta_o=(0.8, -0.8), width=0.01, peak=_straight_through),
+    CheckCase("Dielectric eta=1 a=0.5", lambda: Dielectric(1.0, 0.5), cos_theta_o=(0.8, -0.3),
+              expected_albedo=lambda wo: 1.0),
+    CheckCase("Dielectric eta=1.5 smooth", lambda: Dielectric(1.5, 0.0),
+              cos_theta_o=(0.8, -0.8), expected_albedo=lambda wo: 1.0),
+)
