@@ -1,0 +1,100 @@
+"""Validation toolkit: statistical and deterministic checks of any ``Lobe``.
+
+Reused by the test suite, by ``python -m adobe_bsdf check`` and by the notebooks. Every check
+returns a result object carrying its measured figures and ``passed``; ``str(result)`` is a
+one-line summary.
+
+Public API
+----------
+Sampling against density (``validation.chi2``)
+
+``chi2_test(lobe, wo, *, n_samples, n_theta, n_phi, seed, alpha, n_tests, axis, warp, ...)``
+    Chi-square goodness-of-fit test of ``lobe.sample`` against ``lobe.pdf`` on a sphere grid
+    (reflection and transmission), with adaptive per-cell integration of the pdf; returns a
+    ``Chi2Result`` (p-value, Šidák-corrected threshold, statistic, dof, pdf mass, failed and
+    delta fractions, observed and expected histograms, grid edges).
+``suggest_grid(width, peak)``
+    Pole ``axis`` and ring ``warp`` that spread a narrow lobe over many cells.
+``SphereGrid``, ``integrate_cells``, ``integrate_pdf``, ``draw_samples``, ``classify_samples``,
+``sidak_alpha``
+    The building blocks: grid, vectorised adaptive Genz–Malik cubature over cells, sampling
+    with classification of delta / failed / invalid samples, multiple-test correction.
+
+Consistency checks (``validation.checks``)
+
+``pdf_integral(lobe, wo, *, expected, tol, ...)``
+    Integral of the pdf over the sphere against the non-delta probability.
+``reciprocity_error(lobe, wo, wi, eta_o=None, eta_i=None, *, rtol, atol)``
+    f(wo, wi)/eta_o^2 = f(wi, wo)/eta_i^2; uses the lobe's ``eta`` attribute if it has one.
+``weight_consistency(lobe, wo, n_samples, seed, *, u, rtol)``
+    Sample weight and pdf against ``eval`` and ``pdf`` at the sampled direction; flags.
+``furnace(lobe, wo, expected, method, tol)``
+    Directional albedo against an expected value (white furnace with ``expected = 1``).
+``mc_albedo_consistency(lobe, wo, *, n_samples, seed, alpha, n_tests, rtol)``
+    Monte Carlo albedo against quadrature albedo, in standard errors.
+
+Property-test inputs (``validation.strategies``, needs ``hypothesis``; not imported here)
+
+``directions``, ``direction_pairs``, ``roughness``, ``alpha_pairs``, ``iors``,
+``uniform_triples``.
+
+References
+----------
+- Mitsuba 3, ``src/python/python/chi2.py``; pbrt-v4, ``src/pbrt/bsdfs_test.cpp``: the
+  chi-square method (histogram on a sphere grid, pooling below 5 expected, hard failure in
+  cells of zero expectation, Šidák-corrected significance).
+- A. C. Genz, A. A. Malik, "An adaptive algorithm for numerical integration over an
+  n-dimensional rectangular region", J. Comput. Appl. Math. 6(4), 1980.
+- E. Veach, *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis, Stanford
+  1997, section 5.3: reciprocity of BSDFs with refraction.
+"""
+
+from adobe_bsdf.validation.checks import (
+    FurnaceResult,
+    McAlbedoResult,
+    PdfIntegralResult,
+    ReciprocityResult,
+    WeightConsistencyResult,
+    furnace,
+    mc_albedo_consistency,
+    pdf_integral,
+    reciprocity_error,
+    weight_consistency,
+)
+from adobe_bsdf.validation.chi2 import (
+    CellIntegral,
+    Chi2Result,
+    Draws,
+    SphereGrid,
+    chi2_test,
+    classify_samples,
+    draw_samples,
+    integrate_cells,
+    integrate_pdf,
+    sidak_alpha,
+    suggest_grid,
+)
+
+__all__ = [
+    "CellIntegral",
+    "Chi2Result",
+    "Draws",
+    "FurnaceResult",
+    "McAlbedoResult",
+    "PdfIntegralResult",
+    "ReciprocityResult",
+    "SphereGrid",
+    "WeightConsistencyResult",
+    "chi2_test",
+    "classify_samples",
+    "draw_samples",
+    "furnace",
+    "integrate_cells",
+    "integrate_pdf",
+    "mc_albedo_consistency",
+    "pdf_integral",
+    "reciprocity_error",
+    "sidak_alpha",
+    "suggest_grid",
+    "weight_consistency",
+]
