@@ -19,8 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from adobe_bsdf import _params
-from adobe_bsdf.quadrature import sample_space_albedo
+from adobe_bsdf import _params, quadrature
 
 __all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS"]
 
@@ -64,11 +63,11 @@ class BSDFSample(NamedTuple):
 class Lobe:
     """Base class of every lobe: public methods validate and broadcast, ``_eval`` etc. compute.
 
-    Subclasses implement ``_eval(wo, wi) -> (..., 3)``, ``_pdf(wo, wi) -> (...)``,
-    ``_sample(wo, u) -> BSDFSample`` and ``_albedo_integrand(wo, u2) -> (..., 3)``: the energy
-    carried by the sample generated from the two direction uniforms ``u2``, summed over the
-    lobe's discrete branches (so that the energy albedo is its integral over the unit square,
-    which ``albedo(method="quadrature")`` computes with adaptive cubature).
+    Subclasses implement ``_eval(wo, wi) -> (..., 3)``, ``_pdf(wo, wi) -> (...)`` and
+    ``_sample(wo, u) -> BSDFSample``; a lobe with delta branches (on which ``_eval`` is 0)
+    overrides ``_delta_albedo(wo) -> (..., 3)``, their energy, and one with an interface
+    overrides ``_energy_scale(wo, wi)``. ``albedo(method="quadrature")`` integrates ``_eval`` in
+    direction space and adds ``_delta_albedo``.
     Lobes are frozen: the constructor validates and stores parameters only.
     """
 
@@ -99,7 +98,7 @@ class Lobe:
         wo,
         method: str = "quadrature",
         *,
-        rtol: float = 1e-9,
+        tol: float = 1e-8,
         n_samples: int = 100_000,
         rng: np.random.Generator | int | None = 0,
         return_error: bool = False,
@@ -109,18 +108,31 @@ class Lobe:
         Parameters
         ----------
         wo : array_like (..., 3)
+            Outgoing directions; the lobe's parameters may be arrays broadcasting against
+            ``wo.shape[:-1]`` (a texture), and the result has the broadcast shape.
         method : {"quadrature", "mc", "table"}
-            ``"quadrature"``: adaptive Genz–Malik/Gauss–Kronrod cubature
-            (``scipy.integrate.cubature``) of ``_albedo_integrand`` over the lobe's sample
-            space ``[0, 1]^2``, to relative tolerance ``rtol``; ``"mc"``: mean of ``n_samples``
-            sample weights per direction; ``"table"``: baked tables (where a lobe has them).
+            ``"quadrature"``: ``adobe_bsdf.quadrature.albedo``, adaptive Genz–Malik cubature
+            of f(wo, wi) |cos theta_i| (times (eta_i / eta_o)^2 for transmission) over the
+            whole sphere of ``wi``, on one horizon-aligned grid shared by the whole batch,
+            with sampled directions as guard points, plus the delta branches' energy in
+            closed form; deterministic. ``"mc"``: mean of ``n_samples`` sample weights (times
+            the same energy factor) per direction. ``"table"``: baked tables (where a lobe
+            has them).
+        tol : float
+            ``"quadrature"`` only: target absolute error of every value, in (0, 1), met
+            by the cubature's error estimate (a ``UserWarning`` if the evaluation budget ends
+            first). The estimate can miss support that no node or guard point touches.
+        n_samples : int
+            ``"mc"`` only: samples per direction, in [2, inf).
+        rng : numpy.random.Generator, int or None
+            ``"mc"`` only: source of the uniforms.
         return_error : bool
-            Also return the error estimate (quadrature: cubature's estimate; mc: one standard
-            error of the mean).
+            Also return the error estimate, ``(..., 3)``: quadrature: the cubature's estimate
+            (sum over cells of ``|I7 - I5|``); mc: one standard error of the mean.
         """
         wo = _params.direction("wo", wo)
         if method == "quadrature":
-            value, error = sample_space_albedo(self._albedo_integrand, wo, rtol=rtol)
+            value, error = quadrature.albedo(self, wo, tol=tol)
         elif method == "mc":
             value, error = self._albedo_mc(wo, n_samples, rng)
         elif method == "table":
@@ -158,8 +170,6 @@ class Lobe:
     def _sample(self, wo, u):  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def _albedo_integrand(self, wo, u2):
-        """Energy of the sample drawn from ``u2``; lobes with several branches override it."""
-        u = np.concatenate([np.zeros(u2.shape[:-1] + (1,)), u2], axis=-1)
-        s = self._sample(wo, u)
-        return s.weight * self._energy_scale(wo, s.wi)[..., None]
+    def _delta_albedo(self, wo):
+        """Energy albedo ``(..., 3)`` of the lobe's delta branches (0 for a lobe without)."""
+        return np.zeros(wo.shape[:-1] + (3,))

@@ -62,7 +62,8 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
     Notes
     -----
     R = (r_s^2 + r_p^2) / 2 with r_s = (c_i - eta c_t) / (c_i + eta c_t),
-    r_p = (eta c_i - c_t) / (eta c_i + c_t) (Born & Wolf §1.5.2).
+    r_p = (eta c_i - c_t) / (eta c_i + c_t) (Born & Wolf §1.5.2), evaluated in a form free of
+    cancellation so that the relative accuracy holds as eta -> 1.
     """
     return _dielectric(_cos("cos_theta_i", cos_theta_i),
                        _params.real("eta", eta, 0.0, np.inf, lo_open=True))
@@ -72,14 +73,18 @@ def _dielectric(cos_i: np.ndarray, eta: np.ndarray) -> np.ndarray:
     flip = cos_i < 0.0
     eta = np.where(flip, 1.0 / eta, eta)
     c = np.abs(cos_i)
-    sin2_t = (1.0 - c * c) / (eta * eta)
-    tir = sin2_t >= 1.0
-    cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))
-    # the denominators vanish only at c = cos_t = 0, which is TIR or eta = 1 (handled below)
-    den_s = np.where(tir, 1.0, c + eta * cos_t)
-    den_p = np.where(tir, 1.0, eta * c + cos_t)
-    r_s = (c - eta * cos_t) / den_s
-    r_p = (eta * c - cos_t) / den_p
+    # k = eta^2 - 1 and eta c_t = sqrt(k + c^2): the amplitudes below are the textbook ones
+    # with their numerators rewritten free of cancellation, r_s = (c - eta c_t)/(c + eta c_t)
+    # = -k / (c + eta c_t)^2 and r_p = (eta c - c_t)/(eta c + c_t)
+    # = k (c^2 (eta^2 + 1) - 1) / (eta^2 (eta c + c_t)^2), accurate as eta -> 1.
+    k = (eta - 1.0) * (eta + 1.0)
+    e2 = k + c * c
+    tir = e2 <= 0.0  # includes the grazing limit c = 0 for eta <= 1
+    eta_cos_t = np.sqrt(np.maximum(e2, 0.0))
+    den_s = np.where(tir, 1.0, c + eta_cos_t)
+    den_p = np.where(tir, 1.0, eta * eta * c + eta_cos_t)  # eta (eta c + c_t)
+    r_s = -k / (den_s * den_s)
+    r_p = k * (c * c * (eta * eta + 1.0) - 1.0) / (den_p * den_p)
     return np.where(eta == 1.0, 0.0, np.where(tir, 1.0, 0.5 * (r_s * r_s + r_p * r_p)))
 
 

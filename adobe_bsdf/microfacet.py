@@ -37,6 +37,11 @@ ALPHA_MIN = 1e-8
 MASKING = ("correlated", "separable")
 
 
+def _stack(x, y, z) -> np.ndarray:
+    """Components (broadcast against each other) to vectors ``(..., 3)``."""
+    return np.stack(np.broadcast_arrays(x, y, z), axis=-1)
+
+
 def asm_alpha(roughness, anisotropy=0.0):
     """ASM anisotropic roughness: alpha_x = r^2 + a^4, alpha_y = r^2 (seed 000 eqs. 9-10).
 
@@ -180,10 +185,10 @@ class GGX:
         u2 = np.asarray(u2, dtype=np.float64)
         sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)[..., None]
         ax, ay = self._ax, self._ay
-        wh = normalize(np.stack([ax * w[..., 0], ay * w[..., 1], w[..., 2]], axis=-1) * sign)
+        wh = normalize(_stack(ax * w[..., 0], ay * w[..., 1], w[..., 2]) * sign)
         phi = 2.0 * np.pi * u2[..., 0]
         z = (1.0 - u2[..., 1]) * (1.0 + wh[..., 2]) - wh[..., 2]
         sin_t = np.sqrt(np.clip(1.0 - z * z, 0.0, 1.0))
-        h = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), z], axis=-1) + wh
-        m = normalize(np.stack([ax * h[..., 0], ay * h[..., 1], h[..., 2]], axis=-1))
+        h = _stack(sin_t * np.cos(phi), sin_t * np.sin(phi), z) + wh
+        m = normalize(_stack(ax * h[..., 0], ay * h[..., 1], h[..., 2]))
         return np.where(self.smooth[..., None], np.array([0.0, 0.0, 1.0]), m)

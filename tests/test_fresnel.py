@@ -174,3 +174,24 @@ def test_extremes_are_finite():
     for eta in (1e-3, 1 / 1.5, 1.0, 1.0 + 1e-12, 1.5, 1e3):
         assert np.all(np.isfinite(F.dielectric(mu, eta)))
     assert np.all(np.isfinite(F.conductor(mu, [1e-3, 1.0, 50.0], [0.0, 1e-9, 100.0])))
+
+
+def _fresnel_decimal(c, eta):
+    """Textbook dielectric Fresnel in 50-digit decimal arithmetic (independent reference)."""
+    from decimal import Decimal, getcontext
+    getcontext().prec = 50
+    c, eta = Decimal(c), Decimal(eta)
+    ct = (1 - (1 - c * c) / (eta * eta)).sqrt()
+    rs = (c - eta * ct) / (c + eta * ct)
+    rp = (eta * c - ct) / (eta * c + ct)
+    return float((rs * rs + rp * rp) / 2)
+
+
+@pytest.mark.parametrize(("eta", "cos_theta"), [
+    (eta, c) for eta in (1 + 1e-8, 1 - 1e-8, 1 + 1e-4, 1.5, 1 / 1.5, 2.4)
+    for c in (1.0, 0.7, 0.2, 0.01) if (1 - c**2) / eta**2 < 1  # TIR is tested separately
+])
+def test_dielectric_relative_accuracy_including_eta_near_one(eta, cos_theta):
+    """Full float64 relative accuracy, also where the textbook form cancels (eta -> 1)."""
+    expected = _fresnel_decimal(cos_theta, eta)
+    assert F.dielectric(cos_theta, eta) == pytest.approx(expected, rel=1e-14)

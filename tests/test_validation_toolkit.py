@@ -84,9 +84,6 @@ class PowerCosine(Lobe):
         weight = _rgb((pdf > 0).astype(np.float64))
         return BSDFSample(wi, weight, pdf, np.full(pdf.shape, int(self.flags)))
 
-    def _albedo_integrand(self, wo, u2):
-        return np.ones(np.broadcast_shapes(wo.shape, (*u2.shape[:-1], 3)))
-
 
 class DeltaMix(Lobe):
     """Mirror reflection (delta) with probability ``p_delta``, else cosine-weighted diffuse.
@@ -135,19 +132,19 @@ class Clipped(PowerCosine):
 
 
 class UniformHemisphere(Lobe):
-    """Lambertian white lobe sampled uniformly (weight 2 cos); ``integrand_scale`` plants a bug
-    in the albedo integrand."""
+    """Lambertian white lobe sampled uniformly (weight 2 cos); ``eval_scale`` plants a bug in
+    ``eval`` (scaled by it) that the sample weights do not share."""
 
     flags = Flags.REFLECTION | Flags.DIFFUSE
 
-    def __init__(self, integrand_scale=1.0):
-        self.scale = integrand_scale
+    def __init__(self, eval_scale=1.0):
+        self.scale = eval_scale
 
     def _pdf(self, wo, wi):
         return np.where(wi[..., 2] > 0, 1 / (2 * np.pi), 0.0)
 
     def _eval(self, wo, wi):
-        return _rgb(np.where(wi[..., 2] > 0, 1 / np.pi, 0.0))
+        return _rgb(np.where(wi[..., 2] > 0, self.scale / np.pi, 0.0))
 
     def _sample(self, wo, u):
         z, phi = u[..., 1], 2 * np.pi * u[..., 2]
@@ -155,9 +152,6 @@ class UniformHemisphere(Lobe):
         wi = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=-1)
         pdf = self._pdf(wo, wi)
         return BSDFSample(wi, _rgb(2 * z * (pdf > 0)), pdf, np.full(pdf.shape, int(self.flags)))
-
-    def _albedo_integrand(self, wo, u2):
-        return _rgb(self.scale * 2 * u2[..., 0]) * np.ones(wo.shape)
 
 
 class Interface(Lobe):
@@ -336,6 +330,18 @@ def test_integrate_cells_is_exact_for_degree_7():
     np.testing.assert_allclose(result.value, [exact(lo[0], hi[0]), exact(lo[1], hi[1])],
                                rtol=1e-13)
     assert result.converged
+
+
+def test_integrate_cells_vector_integrand_refines_for_the_worst_channel():
+    lo, hi = np.zeros((2, 2)), np.ones((2, 2))
+
+    def f(x):  # channel 0 is exact for the rule, channel 1 has a kink at x = 0.3
+        return np.stack([x[:, 0] ** 2, np.abs(x[:, 0] - 0.3)], axis=-1)
+
+    result = integrate_cells(f, lo, hi, lambda v: np.array([1e-12, 1e-8]))
+    assert result.value.shape == result.error.shape == (2, 2) and result.converged
+    np.testing.assert_allclose(result.value, [[1 / 3, 0.29]] * 2, atol=1e-8)
+    assert np.all(result.error[:, 1] <= 1e-8)
 
 
 def test_integrate_cells_guard_points_find_support_between_nodes():

@@ -14,3 +14,6 @@ PUBLISHED_5 = 1e-5
 CHI2_ALPHA = 0.01
 #: Mitsuba 3 computes in float32 (acceptance: 1e-5 relative)
 MITSUBA = 1e-5
+#: weight = f |cos| / pdf and sample.pdf = pdf(wo, wi) (same formulas, different order of
+#: operations); the property test adds the half-vector conditioning term on top
+WEIGHT = 1e-9

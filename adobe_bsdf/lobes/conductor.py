@@ -60,7 +60,9 @@ class Conductor(Lobe):
         d = self.distribution
         up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0) & ~d.smooth
         h = normalize(wo + wi)
-        f = self._F(dot(wo, h)) * (d.D(h) * d.V(wo, wi))[..., None]
+        # wo.h = |wo + wi| / 2, symmetric in (wo, wi) bit for bit (exact reciprocity)
+        cos_oh = 0.5 * np.sqrt(dot(wo + wi, wo + wi))
+        f = self._F(cos_oh) * (d.D(h) * d.V(wo, wi))[..., None]
         return np.where(up[..., None], f, 0.0)
 
     def _pdf(self, wo, wi):
@@ -88,6 +90,12 @@ class Conductor(Lobe):
             pdf=np.where(ok, pdf, 0.0),
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
+
+
+    def _delta_albedo(self, wo):
+        """F(cos theta_o) where the lobe is a perfect mirror and ``wo`` is above, else 0."""
+        delta = self.distribution.smooth & (wo[..., 2] > 0.0)
+        return np.where(delta[..., None], self._F(np.maximum(wo[..., 2], 0.0)), 0.0)
 
 
 def _mirror(wo):

@@ -14,7 +14,6 @@ from adobe_bsdf.registry import CheckCase, register
 __all__ = ["Dielectric"]
 
 
-
 def _mirror_z(w, s):
     """Mirror ``w`` through the tangent plane where ``s < 0`` (s = +-1, shape (...))."""
     return np.concatenate([w[..., :2] * np.ones_like(s)[..., None], (w[..., 2] * s)[..., None]],
@@ -61,49 +60,62 @@ class Dielectric(Lobe):
 
     # -- geometry shared by eval and pdf --------------------------------------------------
     def _oriented(self, wo, wi):
-        """Mirror the pair so that ``wo`` is above; returns (wo', wi', eta', side)."""
-        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0)
-        eta = np.where(side > 0.0, self.eta, 1.0 / self.eta)
-        return _mirror_z(wo, side), _mirror_z(wi, side), eta, side
+        """Mirror the pair so that ``wo`` is above; returns (wo', wi', eta_o, eta_i).
 
-    def _half_vector(self, wo, wi, eta):
-        """Reflection or generalized transmission half vector, turned to the upper side."""
-        reflection = (wi[..., 2] > 0.0)[..., None]
-        h = np.where(reflection, wo + wi, -(wo + eta[..., None] * wi))
-        h = normalize(h)
-        return np.where((h[..., 2] < 0.0)[..., None], -h, h)
+        The indices of the two sides are kept apart (1 and ``eta``) rather than as a ratio,
+        so that f(wo, wi) and f(wi, wo) run through bitwise the same arithmetic: near eta = 1
+        the ratio 1/eta would carry a rounding error that the transmission denominator
+        amplifies by 1 / |eta - 1|.
+        """
+        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0)
+        eta_o = np.where(side > 0.0, 1.0, self.eta)
+        eta_i = np.where(side > 0.0, self.eta, 1.0)
+        return _mirror_z(wo, side), _mirror_z(wi, side), eta_o, eta_i, side
 
     def _terms(self, wo, wi):
-        """Everything eval and pdf need, in the frame where ``wo`` is above."""
+        """Everything eval and pdf need, in the frame where ``wo`` is above.
+
+        h is wo + wi for reflection and -(eta_o wo + eta_i wi) for transmission, turned to
+        the upper side; den_t = eta_o wo.h + eta_i wi.h.
+        """
         d = self.distribution
-        wo, wi, eta, _ = self._oriented(wo, wi)
-        h = self._half_vector(wo, wi, eta)
-        cos_oh, cos_ih = dot(wo, h), dot(wi, h)
+        wo, wi, eta_o, eta_i, side = self._oriented(wo, wi)
         reflection = wi[..., 2] > 0.0
         transmission = wi[..., 2] < 0.0
+        h = normalize(np.where(reflection[..., None], wo + wi,
+                               -(eta_o[..., None] * wo + eta_i[..., None] * wi)))
+        h = np.where((h[..., 2] < 0.0)[..., None], -h, h)
+        cos_oh, cos_ih = dot(wo, h), dot(wi, h)
         # facets must face wo (and, for refraction, be seen from below by wi)
-        valid = (wo[..., 2] > 0.0) & (cos_oh > 0.0) & ~d.smooth & (eta != 1.0)
+        valid = (wo[..., 2] > 0.0) & (cos_oh > 0.0) & ~d.smooth & (eta_o != eta_i)
         valid &= reflection & (cos_ih > 0.0) | transmission & (cos_ih < 0.0)
-        F = _dielectric(cos_oh, eta)
-        den_t = cos_oh + eta * cos_ih  # (eta_o wo.h + eta_i wi.h) with eta_o = 1
-        den_t = np.where(valid & transmission, den_t, 1.0)
-        return wo, wi, eta, h, cos_oh, cos_ih, reflection, valid, F, den_t
+        # The Fresnel term is ill-conditioned near eta = 1 and near the critical angle, so it
+        # is written to be bitwise the same for (wo, wi) and (wi, wo): for reflection with
+        # wo.h = wi.h = |wo + wi| / 2, for refraction from the side above the surface (Stokes:
+        # the same value as from below).
+        cos_r = 0.5 * np.sqrt(dot(wo + wi, wo + wi))
+        cos_above = np.abs(np.where(side > 0.0, cos_oh, cos_ih))
+        F = np.where(reflection, _dielectric(cos_r, eta_i / eta_o),
+                     _dielectric(cos_above, self.eta))
+        den_t = np.where(valid & transmission, eta_o * cos_oh + eta_i * cos_ih, 1.0)
+        return wo, wi, eta_o, eta_i, h, cos_oh, cos_ih, reflection, valid, F, den_t
 
     def _eval(self, wo, wi):
         d = self.distribution
-        wo, wi, eta, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
+        wo, wi, eta_o, _, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
         DV = d.D(h) * d.V(wo, wi)
         f_r = F * DV
-        f_t = 4.0 * np.abs(cos_ih) * cos_oh * (1.0 - F) * DV / (den_t * den_t)
+        f_t = (4.0 * np.abs(cos_ih) * cos_oh * eta_o * eta_o * (1.0 - F) * DV
+               / (den_t * den_t))
         f = np.where(valid, np.where(reflection, f_r, f_t), 0.0)
         return np.broadcast_to(f[..., None], f.shape + (3,))
 
     def _pdf(self, wo, wi):
         d = self.distribution
-        wo, wi, eta, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
+        wo, wi, _, eta_i, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
         Dv = d.pdf_visible(wo, h)
         pdf_r = F * Dv / (4.0 * np.where(valid, cos_oh, 1.0))
-        pdf_t = (1.0 - F) * Dv * eta * eta * np.abs(cos_ih) / (den_t * den_t)
+        pdf_t = (1.0 - F) * Dv * eta_i * eta_i * np.abs(cos_ih) / (den_t * den_t)
         return np.where(valid, np.where(reflection, pdf_r, pdf_t), 0.0)
 
     def _energy_scale(self, wo, wi):
@@ -131,8 +143,8 @@ class Dielectric(Lobe):
         ok_t = ok & refracted & (wt[..., 2] < 0.0)
         g_r = np.where(smooth, 1.0, d.G2_over_G1(wo, wr))
         g_t = np.where(smooth, 1.0, d.G2_over_G1(wo, wt))
-        den_t = cos_om + eta * dot(wt, m)
-        den_t = np.where(ok_t, den_t, 1.0)
+        den_t = cos_om + eta * dot(wt, m)  # 0 only for eta = 1 (handled by the caller)
+        den_t = np.where(ok_t & (den_t != 0.0), den_t, 1.0)
         pdf_r = np.where(smooth, F, F * Dv / (4.0 * np.where(ok, cos_om, 1.0)))
         pdf_t = np.where(smooth, 1.0 - F,
                          (1.0 - F) * Dv * eta * eta * np.abs(dot(wt, m)) / (den_t * den_t))
@@ -165,14 +177,15 @@ class Dielectric(Lobe):
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
 
-    def _albedo_integrand(self, wo, u2):
-        """Energy of both branches of the visible normal drawn from ``u2``:
-        F G2_r / G1 + (1 - F) G2_t / G1 (1 for the smooth and index-matched cases)."""
-        side, eta, smooth, F, (wr, ok_r, g_r, _), (wt, ok_t, g_t, _) = self._branches(wo, u2)
-        e = F * np.where(ok_r, g_r, 0.0) + (1.0 - F) * np.where(ok_t, g_t, 0.0)
-        e = np.where(eta == 1.0, 1.0, e)
-        e = np.where(wo[..., 2] != 0.0, e, 0.0)
-        return np.broadcast_to(e[..., None], e.shape + (3,))
+    def _delta_albedo(self, wo):
+        """1 where the interface is smooth or index-matched (and ``wo`` not grazing), else 0.
+
+        A smooth interface reflects F and transmits (1 - F) of the energy (radiance
+        (eta_o/eta_i)^2 (1 - F) times the energy factor (eta_i/eta_o)^2), F + (1 - F) = 1 (F = 1
+        under total internal reflection); an index-matched one passes everything through.
+        """
+        delta = (self.distribution.smooth | (self.eta == 1.0)) & (wo[..., 2] != 0.0)
+        return np.where(delta[..., None], 1.0, np.zeros(wo.shape[:-1] + (3,)))
 
 
 def _straight_through(wo):

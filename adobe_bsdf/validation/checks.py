@@ -476,7 +476,7 @@ def furnace(
     tol : float
         Allowed absolute difference, in [0, inf).
     **albedo_options
-        Further keywords of ``albedo`` (``rtol``, ``n_samples``, ``rng``).
+        Further keywords of ``albedo`` (``tol``, ``n_samples``, ``rng``).
 
     Returns
     -------
@@ -540,9 +540,9 @@ def mc_albedo_consistency(
 ) -> McAlbedoResult:
     """Check that ``albedo(method="mc")`` agrees with ``albedo(method="quadrature")``.
 
-    The Monte Carlo estimate averages the sample weights, the quadrature integrates the lobe's
-    ``_albedo_integrand``; they agree within their standard errors when ``sample`` and the
-    albedo integrand describe the same energy.
+    The Monte Carlo estimate averages the sample weights, the quadrature integrates ``eval``
+    in direction space (plus the delta branches' closed-form energy); they agree within their
+    standard errors when ``sample`` and ``eval`` describe the same energy.
 
     Parameters
     ----------

@@ -4,9 +4,10 @@ Public API
 ----------
 ``chi2_test``        the test for one ``wo``; returns a ``Chi2Result``.
 ``Chi2Result``       p-value, threshold, statistic, both histograms, integrated pdf mass, ...
-``SphereGrid``       the (t, phi) grid about a pole, with warped rings.
-``integrate_cells``  vectorised adaptive Genz–Malik cubature of a density over many 2-D cells.
-``CellIntegral``     its result: per-cell estimate and error.
+``SphereGrid``       the (t, phi) grid about a pole, with warped rings (from
+                     ``adobe_bsdf.quadrature``, re-exported).
+``integrate_cells``  vectorised adaptive Genz–Malik cubature over many 2-D cells (likewise).
+``CellIntegral``     its result: per-cell estimate and error (likewise).
 ``integrate_pdf``    ``integrate_cells`` of a lobe's pdf over a ``SphereGrid``, guided by samples.
 ``draw_samples``     samples of a lobe, sorted into delta / failed / invalid / live (``Draws``).
 ``classify_samples`` the same for given uniforms ``u``.
@@ -52,6 +53,15 @@ from scipy import stats
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.quadrature import (
+    BATCH,
+    WARP_RANGE,
+    CellIntegral,
+    SphereGrid,
+    _integer,
+    _unit_axis,
+    integrate_cells,
+)
 
 __all__ = [
     "Chi2Result",
@@ -71,28 +81,6 @@ __all__ = [
 MIN_EXPECTED = 5.0
 #: default cubature tolerance: a fraction of each cell's Poisson standard deviation
 INTEGRATION_TOLERANCE = 0.01
-#: largest number of directions handed to one ``sample`` or ``pdf`` call (memory bound)
-BATCH = 1 << 20
-#: the allowed range of ``warp``
-WARP_RANGE = (1.0, 8.0)
-
-# -- Genz–Malik degree-7 rule on [-1, 1]^2 with its embedded degree-5 rule -----------------------
-# Nodes and weights from Genz & Malik (1980) for dimension 2; weights are normalised to the mean
-# over the square (they sum to 1), so a region's integral is its area times the weighted sum.
-_L2, _L3, _L4, _L5 = np.sqrt(9 / 70), np.sqrt(9 / 10), np.sqrt(9 / 10), np.sqrt(9 / 19)
-_NODES = np.array(
-    [(0.0, 0.0)]
-    + [(_L2, 0.0), (-_L2, 0.0), (0.0, _L2), (0.0, -_L2)]
-    + [(_L3, 0.0), (-_L3, 0.0), (0.0, _L3), (0.0, -_L3)]
-    + [(_L4, _L4), (_L4, -_L4), (-_L4, _L4), (-_L4, -_L4)]
-    + [(_L5, _L5), (_L5, -_L5), (-_L5, _L5), (-_L5, -_L5)]
-)
-_FAMILY = [1, 4, 4, 4, 4]
-_W7 = np.repeat([-3816 / 19683, 980 / 6561, 1020 / 19683, 200 / 19683, 6859 / 78732], _FAMILY)
-_W5 = np.repeat([-971 / 729, 245 / 486, 65 / 1458, 25 / 729, 0.0], _FAMILY)
-#: ratio of the squared offsets of the two axial node families, for the fourth differences
-_FOURTH = _L2**2 / _L3**2
-
 
 def sidak_alpha(alpha: float, n_tests: int) -> float:
     """Per-test significance level that keeps the family-wise level ``alpha`` over ``n_tests``.
@@ -144,244 +132,6 @@ def suggest_grid(width: float, peak=None) -> dict:
     if warp == WARP_RANGE[0] or peak is None:
         return {"axis": np.array([0.0, 0.0, 1.0]), "warp": warp}
     return {"axis": _unit_axis(peak), "warp": warp}
-
-
-class SphereGrid:
-    """Grid over the whole sphere in rings and sectors about a pole.
-
-    A cell is a rectangle in ``(t, phi)``: ``t`` in [0, 1] indexes rings, with polar angle from
-    the pole ``theta' = pi t**warp``, and ``phi`` in [0, 2 pi) is the azimuth about the pole.
-    Rings are uniform in ``t``, except that when the pole is ``+z`` or ``-z`` the ring edge
-    nearest the horizon is moved onto it (and samples are binned by the sign of ``z``), so that
-    no cell straddles the reflection/transmission boundary, where pdfs are discontinuous.
-
-    Parameters
-    ----------
-    n_theta : int
-        Number of rings, in [2, inf).
-    n_phi : int
-        Number of sectors, in [1, inf).
-    axis : array_like (3,), optional
-        Pole; normalised. Default ``+z``.
-    warp : float
-        Ring warp exponent, in ``WARP_RANGE``; 1 is uniform in polar angle.
-    """
-
-    def __init__(self, n_theta: int, n_phi: int, axis=None, warp: float = 1.0):
-        self.n_theta = _integer("n_theta", n_theta, 2)
-        self.n_phi = _integer("n_phi", n_phi, 1)
-        self.warp = float(_params.real("warp", warp, *WARP_RANGE))
-        self.axis = np.array([0.0, 0.0, 1.0]) if axis is None else _unit_axis(axis)
-        helper = np.array([0.0, 0.0, 1.0]) if abs(self.axis[2]) < 0.9 else np.array([1.0, 0, 0])
-        e1 = helper - (helper @ self.axis) * self.axis
-        e1 /= np.linalg.norm(e1)
-        #: rows: first and second tangent, pole
-        self.frame = np.stack([e1, np.cross(self.axis, e1), self.axis])
-        self.t_edges = np.linspace(0.0, 1.0, self.n_theta + 1)
-        #: index of the ring edge on the horizon, or None when the pole is not +-z
-        self.horizon_edge = None
-        if self.axis[0] == 0.0 and self.axis[1] == 0.0:
-            t_horizon = 0.5 ** (1.0 / self.warp)
-            k = int(np.clip(np.rint(t_horizon * self.n_theta), 1, self.n_theta - 1))
-            self.t_edges[k] = t_horizon
-            self.horizon_edge = k
-        self.phi_edges = np.linspace(0.0, 2.0 * np.pi, self.n_phi + 1)
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """``(n_theta, n_phi)``."""
-        return self.n_theta, self.n_phi
-
-    @property
-    def theta_edges(self) -> np.ndarray:
-        """Polar angles from the pole of the ring edges, ``(n_theta + 1,)``."""
-        return np.pi * self.t_edges**self.warp
-
-    def cell_bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Lower and upper ``(t, phi)`` corners of every cell, each ``(n_theta * n_phi, 2)``."""
-        t0, p0 = np.meshgrid(self.t_edges[:-1], self.phi_edges[:-1], indexing="ij")
-        t1, p1 = np.meshgrid(self.t_edges[1:], self.phi_edges[1:], indexing="ij")
-        return (np.stack([t0.ravel(), p0.ravel()], axis=-1),
-                np.stack([t1.ravel(), p1.ravel()], axis=-1))
-
-    def direction(self, t: np.ndarray, phi: np.ndarray) -> np.ndarray:
-        """Unit direction ``(..., 3)`` of grid coordinates ``(t, phi)``."""
-        theta = np.pi * t**self.warp
-        sin_theta = np.sin(theta)
-        e1, e2, pole = self.frame
-        return ((sin_theta * np.cos(phi))[..., None] * e1
-                + (sin_theta * np.sin(phi))[..., None] * e2 + np.cos(theta)[..., None] * pole)
-
-    def jacobian(self, t: np.ndarray) -> np.ndarray:
-        """Solid angle per unit ``t`` per unit ``phi``: ``sin(theta') dtheta'/dt``."""
-        return np.sin(np.pi * t**self.warp) * np.pi * self.warp * t ** (self.warp - 1.0)
-
-    def coordinates(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Grid coordinates ``(t, phi)`` of unit directions ``w`` ``(..., 3)``, and ``w``'s
-        component along the pole."""
-        # explicit sums: a (N, 3) @ (3, 3) matmul is an order of magnitude slower in NumPy
-        x, y, height = (w[..., 0] * e[0] + w[..., 1] * e[1] + w[..., 2] * e[2] for e in self.frame)
-        theta = np.arctan2(np.hypot(x, y), height)
-        phi = np.mod(np.arctan2(y, x), 2.0 * np.pi)
-        return (theta / np.pi) ** (1.0 / self.warp), phi, height
-
-    def locate(self, w: np.ndarray) -> np.ndarray:
-        """Flat cell index (ring * n_phi + sector) of unit directions ``w`` ``(..., 3)``."""
-        t, phi, height = self.coordinates(w)
-        ring = np.clip(np.searchsorted(self.t_edges, t, side="right") - 1, 0, self.n_theta - 1)
-        if self.horizon_edge is not None:
-            ring = np.where(height > 0.0, np.minimum(ring, self.horizon_edge - 1),
-                            np.maximum(ring, self.horizon_edge))
-        sector = np.clip((phi * (self.n_phi / (2.0 * np.pi))).astype(np.int64), 0, self.n_phi - 1)
-        return ring * self.n_phi + sector
-
-
-class CellIntegral(NamedTuple):
-    """Result of ``integrate_cells``.
-
-    Attributes
-    ----------
-    value : ndarray (n_cells,)
-        Integral over each cell.
-    error : ndarray (n_cells,)
-        Estimated absolute error of each cell (sum of its regions' ``|I7 - I5|``).
-    converged : bool
-        Whether every cell met its tolerance.
-    n_evals : int
-        Number of integrand evaluations.
-    n_rounds : int
-        Number of refinement rounds after the first evaluation.
-    """
-
-    value: np.ndarray
-    error: np.ndarray
-    converged: bool
-    n_evals: int
-    n_rounds: int
-
-
-def integrate_cells(
-    integrand: Callable[[np.ndarray], np.ndarray],
-    lo: np.ndarray,
-    hi: np.ndarray,
-    tolerance: Callable[[np.ndarray], np.ndarray],
-    *,
-    points: np.ndarray | None = None,
-    point_cells: np.ndarray | None = None,
-    max_rounds: int = 60,
-    max_evals: int = 20_000_000,
-) -> CellIntegral:
-    """Integrate ``integrand`` over many rectangles, each to its own absolute tolerance.
-
-    Every cell starts as one region, integrated with the 17-point Genz–Malik degree-7 rule and
-    its embedded degree-5 rule (error estimate ``|I7 - I5|``). While a cell's summed error
-    exceeds ``tolerance(values)`` of that cell, its regions whose error exceeds the tolerance
-    divided by the cell's region count are halved along the axis with the larger fourth
-    difference (Genz & Malik 1980) and re-integrated. Each round evaluates the integrand once on
-    the nodes of all new regions.
-
-    A rule only sees the integrand at its nodes, so a sliver of support between the nodes (a
-    discontinuity such as the horizon cutting a corner of a cell) reads as exactly 0 with error
-    0. ``points`` where the integrand is known to be positive guard against this: a region that
-    contains one and whose nodes are all 0 is split as well.
-
-    Parameters
-    ----------
-    integrand : callable
-        ``f(x) -> (M,)`` for points ``x`` of shape ``(M, 2)``.
-    lo, hi : ndarray (n_cells, 2)
-        Lower and upper corners of the cells.
-    tolerance : callable
-        ``tol(values) -> (n_cells,)``: allowed absolute error per cell given the current
-        estimates ``values`` ``(n_cells,)``.
-    points : ndarray (P, 2), optional
-        Points at which the integrand is positive.
-    point_cells : ndarray (P,) of int, optional
-        The cell of each point (required with ``points``).
-    max_rounds : int
-        Refinement rounds at most, in [0, inf).
-    max_evals : int
-        Integrand evaluations at most, in [17 n_cells, inf); when the next round would exceed
-        it, only the regions with the largest errors that fit are split, and refinement stops.
-
-    Returns
-    -------
-    CellIntegral
-    """
-    lo = np.asarray(lo, dtype=np.float64)
-    hi = np.asarray(hi, dtype=np.float64)
-    n_cells = lo.shape[0]
-    max_rounds = _integer("max_rounds", max_rounds, 0)
-    max_evals = _integer("max_evals", max_evals, _NODES.shape[0] * n_cells)
-    if points is None:
-        points, point_cells = np.empty((0, 2)), np.empty(0, dtype=np.int64)
-    center, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
-    cell = np.arange(n_cells)
-    value, error, split = _genz_malik(integrand, center, half)
-    n_evals, n_rounds = _NODES.shape[0] * n_cells, 0
-    while True:
-        cell_value = np.bincount(cell, value, n_cells)
-        cell_error = np.bincount(cell, error, n_cells)
-        cell_tol = tolerance(cell_value)
-        bad = cell_error > cell_tol
-        share = cell_tol / np.bincount(cell, minlength=n_cells)
-        chosen = bad[cell] & (error > share[cell])
-        blind = np.flatnonzero((value == 0) & (error == 0))
-        hit = _containing(points, point_cells, center[blind], half[blind], cell[blind])
-        chosen[blind[hit]] = True
-        chosen = np.flatnonzero(chosen)
-        budget = (max_evals - n_evals) // (2 * _NODES.shape[0])  # regions we can still split
-        if not chosen.size or n_rounds == max_rounds or budget < 1:
-            break
-        if chosen.size > budget:
-            chosen = chosen[np.argpartition(error[chosen], -budget)[-budget:]]
-        keep = np.ones(value.size, dtype=bool)
-        keep[chosen] = False
-        rows = np.arange(chosen.size)
-        child_half = half[chosen].copy()
-        child_half[rows, split[chosen]] *= 0.5
-        offset = np.zeros_like(child_half)
-        offset[rows, split[chosen]] = child_half[rows, split[chosen]]
-        child_center = np.concatenate([center[chosen] - offset, center[chosen] + offset])
-        child_half = np.concatenate([child_half, child_half])
-        child_value, child_error, child_split = _genz_malik(integrand, child_center, child_half)
-        center = np.concatenate([center[keep], child_center])
-        half = np.concatenate([half[keep], child_half])
-        cell = np.concatenate([cell[keep], np.tile(cell[chosen], 2)])
-        value = np.concatenate([value[keep], child_value])
-        error = np.concatenate([error[keep], child_error])
-        split = np.concatenate([split[keep], child_split])
-        n_evals += child_center.shape[0] * _NODES.shape[0]
-        n_rounds += 1
-    return CellIntegral(cell_value, cell_error, not bad.any(), n_evals, n_rounds)
-
-
-def _containing(points, point_cells, center, half, cell):
-    """Indices of the regions (of the points' own cells) that contain any of ``points``."""
-    order = np.argsort(cell, kind="stable")
-    first = np.searchsorted(cell[order], point_cells, side="left")
-    count = np.searchsorted(cell[order], point_cells, side="right") - first
-    owner = np.repeat(np.arange(points.shape[0]), count)
-    within = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    region = order[np.repeat(first, count) + within]
-    inside = np.all(np.abs(points[owner] - center[region]) <= half[region], axis=1)
-    return np.unique(region[inside])
-
-
-def _genz_malik(integrand, center, half):
-    """Degree-7 estimate, ``|I7 - I5|`` and split axis for regions ``center +- half``."""
-    x = (center[:, None, :] + half[:, None, :] * _NODES).reshape(-1, 2)
-    f = np.concatenate([integrand(x[i:i + BATCH]) for i in range(0, x.shape[0], BATCH)])
-    f = f.reshape(center.shape[0], _NODES.shape[0])
-    area = 4.0 * half[:, 0] * half[:, 1]
-    value = area * (f @ _W7)
-    error = area * np.abs(f @ (_W7 - _W5))
-    f0 = f[:, :1]
-    fourth = np.abs(f[:, [1, 3]] + f[:, [2, 4]] - 2 * f0
-                    - _FOURTH * (f[:, [5, 7]] + f[:, [6, 8]] - 2 * f0))
-    # where the integrand shows no curvature at all (e.g. 0 at every node), halve the wider side
-    split = np.where(fourth.max(axis=1) > 0, np.argmax(fourth, axis=1), np.argmax(half, axis=1))
-    return value, error, split
 
 
 @dataclass(frozen=True)
@@ -773,17 +523,3 @@ def _pooled_statistic(observed, expected):
         expected = np.append(expected, pooled_e)
     statistic = float(np.sum((observed - expected) ** 2 / expected)) if expected.size else 0.0
     return statistic, expected.size - 1, n_small
-
-
-def _unit_axis(axis) -> np.ndarray:
-    arr = _params.real("axis", axis)
-    norm = np.linalg.norm(arr) if arr.shape == (3,) else 0.0
-    if norm == 0.0:
-        raise ValueError(f"axis = {axis!r} must be a non-zero 3-vector")
-    return arr / norm
-
-
-def _integer(name: str, value, lo: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
-        raise ValueError(f"{name} = {value!r} must be an integer in [{lo}, inf)")
-    return int(value)
