@@ -69,15 +69,19 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
                        _params.real("eta", eta, 0.0, np.inf, lo_open=True))
 
 
-def _dielectric(cos_i: np.ndarray, eta: np.ndarray) -> np.ndarray:
+def _dielectric(cos_i: np.ndarray, eta_t, eta_i=1.0) -> np.ndarray:
+    """Fresnel reflectance for relative index eta_t / eta_i; the two indices are taken
+    apart so that k = eta^2 - 1 is formed without the rounding of the ratio (which, near
+    eta = 1, would dominate the result)."""
     flip = cos_i < 0.0
-    eta = np.where(flip, 1.0 / eta, eta)
+    eta_t, eta_i = np.where(flip, eta_i, eta_t), np.where(flip, eta_t, eta_i)
+    eta = eta_t / eta_i
     c = np.abs(cos_i)
     # k = eta^2 - 1 and eta c_t = sqrt(k + c^2): the amplitudes below are the textbook ones
     # with their numerators rewritten free of cancellation, r_s = (c - eta c_t)/(c + eta c_t)
     # = -k / (c + eta c_t)^2 and r_p = (eta c - c_t)/(eta c + c_t)
     # = k (c^2 (eta^2 + 1) - 1) / (eta^2 (eta c + c_t)^2), accurate as eta -> 1.
-    k = (eta - 1.0) * (eta + 1.0)
+    k = (eta_t - eta_i) * (eta_t + eta_i) / (eta_i * eta_i)
     e2 = k + c * c
     tir = e2 <= 0.0  # includes the grazing limit c = 0 for eta <= 1
     eta_cos_t = np.sqrt(np.maximum(e2, 0.0))
@@ -85,7 +89,7 @@ def _dielectric(cos_i: np.ndarray, eta: np.ndarray) -> np.ndarray:
     den_p = np.where(tir, 1.0, eta * eta * c + eta_cos_t)  # eta (eta c + c_t)
     r_s = -k / (den_s * den_s)
     r_p = k * (c * c * (eta * eta + 1.0) - 1.0) / (den_p * den_p)
-    return np.where(eta == 1.0, 0.0, np.where(tir, 1.0, 0.5 * (r_s * r_s + r_p * r_p)))
+    return np.where(eta_t == eta_i, 0.0, np.where(tir, 1.0, 0.5 * (r_s * r_s + r_p * r_p)))
 
 
 # --- conductor ---------------------------------------------------------------------------

@@ -2,11 +2,12 @@
 reciprocity (generalized for transmission), finiteness and positivity, consistency of
 ``sample`` with ``eval``/``pdf``, and the bad-input policy."""
 
+import os
 from functools import partial
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import adobe_bsdf as ab
@@ -15,14 +16,16 @@ from adobe_bsdf.validation import strategies as vs
 from tests.tolerances import RECIPROCITY, WEIGHT
 
 GOLD = partial(ab.fresnel.conductor, eta=[0.143, 0.374, 1.442], k=[3.983, 2.385, 1.603])
-SETTINGS = settings(max_examples=300, deadline=None,
+#: HYPOTHESIS_EXAMPLES=3000 for a deeper search (the default run uses 300)
+SETTINGS = settings(max_examples=int(os.environ.get("HYPOTHESIS_EXAMPLES", 300)), deadline=None,
                     suppress_health_check=[HealthCheck.too_slow])
 MASKINGS = st.sampled_from(["correlated", "separable"])
 
 
 def lobes():
     """Any lobe, with parameters over their whole valid range."""
-    lambert = st.floats(0.0, 1.0).map(ab.lobes.Lambert)
+    # subnormal albedos (< 2.2e-308) carry fewer significant bits by IEEE design
+    lambert = st.floats(0.0, 1.0, allow_subnormal=False).map(ab.lobes.Lambert)
     conductor = st.builds(lambda a, m, f: ab.lobes.Conductor(*a, fresnel=f, masking=m),
                           vs.alpha_pairs(), MASKINGS, st.sampled_from([None, GOLD]))
     dielectric = st.builds(lambda eta, a, m: ab.lobes.Dielectric(eta, *a, masking=m),
@@ -78,21 +81,44 @@ def test_outputs_finite_and_non_negative(lobe, pair, u):
         assert np.all(s.weight == 0) and s.flags == 0
 
 
+def _half_vector(lobe, wo, wi):
+    eta = float(getattr(lobe, "eta", 1.0))
+    eta_o, eta_i = (1.0 if wo[2] > 0 else eta), (1.0 if wi[2] > 0 else eta)
+    h = wo + wi if wo[2] * wi[2] > 0 else -(eta_o * wo + eta_i * wi)
+    return h / np.linalg.norm(h), np.linalg.norm(h)
+
+
+def edge_distance(lobe, wo, wi):
+    """min(|wo.h|, |wi.h|, |h.z|): how far the pair's microfacet is from edge-on to wo, to
+    wi, or to the macro-surface (where D(h) ends)."""
+    h, length = _half_vector(lobe, wo, wi)
+    return min(abs(wo @ h), abs(wi @ h), abs(h[2]) * length)
+
+
 def half_vector_tolerance(lobe, wo, wi):
     """``WEIGHT`` plus the float64 conditioning of recomputing the half vector from (wo, wi).
 
-    ``pdf(wo, wi)`` rebuilds h from wo + wi (or eta_o wo + eta_i wi), whose length is
-    2 |wo.h| (or |den_t|): its direction carries a relative error ~ eps / that length, and
-    D(h) amplifies it by ~ 4 / alpha. Away from grazing/degenerate pairs this is < 1e-12.
+    ``pdf(wo, wi)`` rebuilds h from wo + wi (or eta_o wo + eta_i wi), whose length L is
+    2 |wo.h| (or |den_t|): its direction carries an error ~ eps / L, which D(h) amplifies by
+    ~ 4 / alpha and the cosines |wo.h|, |wi.h| (factors of the pdf, perturbed by eps and by
+    the eps / L turn of h) by (1 + 1/L) / |w.h|, and, for refraction, 1 - F by its relative
+    sensitivity to the cosine (large next to the critical angle). Away from
+    grazing or degenerate pairs this is far below 1e-12.
     """
-    alpha = getattr(getattr(lobe, "distribution", None), "alpha_x", None)
-    if alpha is None:
+    if not hasattr(lobe, "distribution"):
         return WEIGHT
     alpha = min(float(lobe.distribution.alpha_x), float(lobe.distribution.alpha_y))
     eta = float(getattr(lobe, "eta", 1.0))
-    eta_o, eta_i = (1.0 if wo[2] > 0 else eta), (1.0 if wi[2] > 0 else eta)
-    length = np.linalg.norm(wo + wi if wo[2] * wi[2] > 0 else eta_o * wo + eta_i * wi)
-    return WEIGHT + 16.0 * np.finfo(float).eps * (1.0 + eta) / (max(alpha, 1e-300) * length)
+    h, length = _half_vector(lobe, wo, wi)
+    cosines = 1.0 / abs(wo @ h) + 1.0 / abs(wi @ h)
+    amplification = 1.0 / (alpha * length) + cosines * (1.0 + 1.0 / length)
+    if wo[2] * wi[2] < 0:  # 1 - F near the critical angle: its own relative sensitivity
+        light = wo if (wo[2] > 0) == (eta >= 1) else wi  # on the less dense side
+        c, eta_d = abs(light @ h), max(eta, 1 / eta)
+        t = 1.0 - ab.fresnel.dielectric(c, eta_d)
+        dt = abs(ab.fresnel.dielectric(c * (1 - 1e-7), eta_d) - ab.fresnel.dielectric(c, eta_d))
+        amplification += dt / (1e-7 * t) * cosines * (1.0 + 1.0 / length) if t > 0 else 0.0
+    return WEIGHT + 16.0 * np.finfo(float).eps * (1.0 + eta) * amplification
 
 
 @SETTINGS
@@ -101,6 +127,10 @@ def test_sample_agrees_with_eval_and_pdf(lobe, wo, u):
     """weight = f |cos| / pdf and sample.pdf = pdf(wo, wi) for non-delta samples."""
     s = lobe.sample(wo, u)
     glossy = s.pdf > 0 and not s.flags & ab.Flags.DELTA
+    # a microfacet within rounding of edge-on to wo, wi or the surface sits on the boundary of
+    # the lobe's support: recomputing h from (wo, wi) can land on either side of it; such
+    # measure-zero samples are left to the dense tests below
+    assume(not glossy or edge_distance(lobe, wo, s.wi) > 1e-6)
     rtol = half_vector_tolerance(lobe, wo, s.wi) if glossy else WEIGHT
     result = checks.weight_consistency(lobe, wo, u=u[None], rtol=rtol)
     assert result.passed, result

@@ -58,6 +58,16 @@ class Dielectric(Lobe):
         return (f"Dielectric(eta={self.eta}, alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
                 f"masking={d.masking!r})")
 
+    def _F_from_light_side(self, cos_light):
+        """F seen from the less dense side (no total internal reflection there)."""
+        dense = self.eta >= 1.0
+        eta_t, eta_i = np.where(dense, self.eta, 1.0), np.where(dense, 1.0, self.eta)
+        return _dielectric(cos_light, eta_t, eta_i)
+
+    def _on_light_side(self, side):
+        """Whether the side ``side`` (+1 above, -1 below) is the less dense one."""
+        return (side > 0.0) == (self.eta >= 1.0)
+
     # -- geometry shared by eval and pdf --------------------------------------------------
     def _oriented(self, wo, wi):
         """Mirror the pair so that ``wo`` is above; returns (wo', wi', eta_o, eta_i).
@@ -89,14 +99,15 @@ class Dielectric(Lobe):
         # facets must face wo (and, for refraction, be seen from below by wi)
         valid = (wo[..., 2] > 0.0) & (cos_oh > 0.0) & ~d.smooth & (eta_o != eta_i)
         valid &= reflection & (cos_ih > 0.0) | transmission & (cos_ih < 0.0)
-        # The Fresnel term is ill-conditioned near eta = 1 and near the critical angle, so it
-        # is written to be bitwise the same for (wo, wi) and (wi, wo): for reflection with
-        # wo.h = wi.h = |wo + wi| / 2, for refraction from the side above the surface (Stokes:
-        # the same value as from below).
+        # The Fresnel term is ill-conditioned near eta = 1 and, seen from the denser side,
+        # near the critical angle. So that it is bitwise the same for (wo, wi) and (wi, wo),
+        # and matches the sampler, reflection uses wo.h = wi.h = |wo + wi| / 2 and refraction
+        # the cosine on the less dense side (Stokes: the same value as from the other side;
+        # there F is smooth, with no total-internal-reflection edge).
         cos_r = 0.5 * np.sqrt(dot(wo + wi, wo + wi))
-        cos_above = np.abs(np.where(side > 0.0, cos_oh, cos_ih))
-        F = np.where(reflection, _dielectric(cos_r, eta_i / eta_o),
-                     _dielectric(cos_above, self.eta))
+        cos_light = np.abs(np.where(self._on_light_side(side), cos_oh, cos_ih))
+        F = np.where(reflection, _dielectric(cos_r, eta_i, eta_o),
+                     self._F_from_light_side(cos_light))
         den_t = np.where(valid & transmission, eta_o * cos_oh + eta_i * cos_ih, 1.0)
         return wo, wi, eta_o, eta_i, h, cos_oh, cos_ih, reflection, valid, F, den_t
 
@@ -134,9 +145,11 @@ class Dielectric(Lobe):
         smooth = np.broadcast_to(d.smooth, np.broadcast_shapes(d.smooth.shape, eta.shape))
         m = d.sample_visible(wo, u2)
         cos_om = dot(wo, m)
-        F = _dielectric(cos_om, eta)
         wr = reflect(wo, m)
         wt, refracted = refract(wo, m, eta)
+        # F as _terms computes it: from the less dense side (TIR where nothing refracts)
+        cos_light = np.where(self._on_light_side(side), cos_om, np.abs(dot(wt, m)))
+        F = np.where(refracted, self._F_from_light_side(cos_light), 1.0)
         Dv = d.pdf_visible(wo, m)
         ok = (wo[..., 2] > 0.0) & (cos_om > 0.0)
         ok_r = ok & (wr[..., 2] > 0.0)
