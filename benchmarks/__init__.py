@@ -1,0 +1,1 @@
+"""Speed measurements of adobe_bsdf (``python -m benchmarks``)."""
