@@ -34,6 +34,13 @@ def real(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
     return arr
 
 
+def integer(name: str, value, lo: int) -> int:
+    """An integer count in [lo, inf) (booleans are rejected)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
+        raise ValueError(f"{name} = {value!r} must be an integer in [{lo}, inf)")
+    return int(value)
+
+
 def color(name: str, value, lo: float = -np.inf, hi: float = np.inf) -> np.ndarray:
     """A colour parameter: a scalar or an array with a trailing axis of 3, as ``(..., 3)``."""
     arr = real(name, value, lo, hi)

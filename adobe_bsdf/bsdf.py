@@ -143,8 +143,7 @@ class Lobe:
 
     # -- defaults --------------------------------------------------------------------------
     def _albedo_mc(self, wo, n_samples, rng):
-        if not (isinstance(n_samples, (int, np.integer)) and n_samples >= 2):
-            raise ValueError(f"n_samples = {n_samples!r} must be an integer in [2, inf)")
+        n_samples = _params.integer("n_samples", n_samples, 2)
         rng = np.random.default_rng(rng)
         batch = wo.shape[:-1]
         u = rng.random((n_samples, *batch, 3))

@@ -77,8 +77,8 @@ class SphereGrid:
     """
 
     def __init__(self, n_theta: int, n_phi: int, axis=None, warp: float = 1.0):
-        self.n_theta = _integer("n_theta", n_theta, 2)
-        self.n_phi = _integer("n_phi", n_phi, 1)
+        self.n_theta = _params.integer("n_theta", n_theta, 2)
+        self.n_phi = _params.integer("n_phi", n_phi, 1)
         self.warp = float(_params.real("warp", warp, *WARP_RANGE))
         self.axis = np.array([0.0, 0.0, 1.0]) if axis is None else _unit_axis(axis)
         helper = np.array([0.0, 0.0, 1.0]) if abs(self.axis[2]) < 0.9 else np.array([1.0, 0, 0])
@@ -226,8 +226,8 @@ def integrate_cells(
     lo = np.asarray(lo, dtype=np.float64)
     hi = np.asarray(hi, dtype=np.float64)
     n_cells = lo.shape[0]
-    max_rounds = _integer("max_rounds", max_rounds, 0)
-    max_evals = _integer("max_evals", max_evals, _NODES.shape[0] * n_cells)
+    max_rounds = _params.integer("max_rounds", max_rounds, 0)
+    max_evals = _params.integer("max_evals", max_evals, _NODES.shape[0] * n_cells)
     if points is None:
         points, point_cells = np.empty((0, 2)), np.empty(0, dtype=np.int64)
     if point_channels is None:
@@ -376,7 +376,7 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
         parameter shape.
     """
     tol = float(_params.real("tol", tol, 0.0, 1.0, lo_open=True, hi_open=True))
-    n_guides = _integer("n_guides", n_guides, 0)
+    n_guides = _params.integer("n_guides", n_guides, 0)
     grid = SphereGrid(n_theta, n_phi)
     lo, hi = grid.cell_bounds()
     u = np.random.default_rng(seed).random((n_guides, *wo.shape[:-1], 3))
@@ -425,9 +425,3 @@ def _unit_axis(axis) -> np.ndarray:
     if norm == 0.0:
         raise ValueError(f"axis = {axis!r} must be a non-zero 3-vector")
     return arr / norm
-
-
-def _integer(name: str, value, lo: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
-        raise ValueError(f"{name} = {value!r} must be an integer in [{lo}, inf)")
-    return int(value)

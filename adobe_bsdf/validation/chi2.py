@@ -58,7 +58,6 @@ from adobe_bsdf.quadrature import (
     WARP_RANGE,
     CellIntegral,
     SphereGrid,
-    _integer,
     _unit_axis,
     integrate_cells,
 )
@@ -100,7 +99,7 @@ def sidak_alpha(alpha: float, n_tests: int) -> float:
         The corrected per-test level.
     """
     alpha = float(_params.real("alpha", alpha, 0.0, 1.0, lo_open=True, hi_open=True))
-    n_tests = _integer("n_tests", n_tests, 1)
+    n_tests = _params.integer("n_tests", n_tests, 1)
     return float(-np.expm1(np.log1p(-alpha) / n_tests))
 
 
@@ -301,7 +300,7 @@ def chi2_test(
     wo = _params.direction("wo", wo)
     if wo.shape != (3,):
         raise ValueError(f"wo has shape {wo.shape}; chi2_test takes one direction of shape (3,)")
-    n_samples = _integer("n_samples", n_samples, 1)
+    n_samples = _params.integer("n_samples", n_samples, 1)
     significance = sidak_alpha(alpha, n_tests)
     tau = float(_params.real("integration_tolerance", integration_tolerance, 0.0, 1.0,
                              lo_open=True))
@@ -405,7 +404,7 @@ def draw_samples(lobe: Lobe, wo, n_samples: int, seed: int | np.random.Generator
     Draws
     """
     wo = _params.direction("wo", wo)
-    n_samples = _integer("n_samples", n_samples, 1)
+    n_samples = _params.integer("n_samples", n_samples, 1)
     return classify_samples(lobe, wo, np.random.default_rng(seed).random((n_samples,
                                                                          *wo.shape[:-1], 3)))
 
