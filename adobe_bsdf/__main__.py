@@ -115,9 +115,26 @@ def main(argv=None) -> int:
                          help="samples per chi-square test (default 200000)")
     p_check.add_argument("--markdown", metavar="FILE",
                          help="also write the table as Markdown to FILE")
+    p_bake = sub.add_parser("bake", help="bake the energy tables (or check them)")
+    p_bake.add_argument("names", nargs="*", help="tables to bake (default: all); tables "
+                        "derived from them are re-derived")
+    p_bake.add_argument("--check", action="store_true",
+                        help="re-bake random nodes at a higher order and compare with the "
+                        "committed tables (fails above 1e-6)")
+    p_bake.add_argument("--nodes", type=int, default=16, help="nodes per table for --check")
+    p_bake.add_argument("--seed", type=int, default=0, help="seed of the --check nodes")
+    p_bake.add_argument("--workers", type=int, default=2, help="worker processes")
+    p_bake.add_argument("--resolution", type=int, help="nodes per axis (needs --out)")
+    p_bake.add_argument("--out", metavar="DIR", help="write tables to DIR instead of the "
+                        "shipped folder")
     args = parser.parse_args(argv)
     if args.command == "check":
         return 1 if check(args.samples, args.markdown) else 0
+    if args.command == "bake":
+        from adobe_bsdf.tables.bake import run
+
+        return 1 if run(args.names, do_check=args.check, n_nodes=args.nodes, seed=args.seed,
+                        workers=args.workers, resolution=args.resolution, out=args.out) else 0
     return 2  # pragma: no cover - argparse enforces the choices
 
 

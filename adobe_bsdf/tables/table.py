@@ -1,0 +1,290 @@
+"""A baked table: its declaration (axes, outputs, how nodes are computed), storage and lookup.
+
+Public API
+----------
+``Axis``        one input of a table: physical range, node count and parameterisation.
+``TableSpec``   the declaration of a table: name, axes, output channels and node function.
+``Table``       a baked table (node values and error estimates) with vectorised multilinear
+                interpolation in the axes' parameters, ``Table(*coords) -> (..., n_outputs)``.
+``TableError``  a missing, corrupt or mismatched table file (a ``ValueError``).
+``save``, ``load``  ``.npz`` files with metadata and a content hash checked on load.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.special import lambertw
+
+from adobe_bsdf import _params
+
+__all__ = ["Axis", "TableSpec", "Table", "TableError", "save", "load", "PARAMETERISATIONS"]
+
+
+class TableError(ValueError):
+    """A table file that is missing, corrupt, or baked for another declaration."""
+
+
+def _ior_to(x):
+    return (x - 1.0) / (x + 1.0)
+
+
+def _ior_from(p):
+    return (1.0 + p) / (1.0 - p)
+
+
+#: "log-linear": p = x + C ln(x + X0): uniform in ln x near 0 (resolves structure that scales
+#: with x, e.g. grazing features of width ~ alpha), nearly uniform in x towards 1
+LOGLIN_C, LOGLIN_X0 = 0.1, 1e-4
+
+
+def _loglin_to(x):
+    return x + LOGLIN_C * np.log(x + LOGLIN_X0)
+
+
+def _loglin_from(p):
+    # y + C ln y = p + X0 with y = x + X0, solved by the Lambert W function
+    q = (np.asarray(p, dtype=np.float64) + LOGLIN_X0) / LOGLIN_C
+    y = LOGLIN_C * lambertw(np.exp(q) / LOGLIN_C).real
+    return y - LOGLIN_X0
+
+
+def _loglin_dfrom(p):
+    x = _loglin_from(p)
+    return 1.0 / (1.0 + LOGLIN_C / (x + LOGLIN_X0))
+
+
+#: name -> (physical -> parameter, parameter -> physical, d physical / d parameter); nodes
+#: are uniform in the parameter
+PARAMETERISATIONS: dict[str, tuple[Callable, Callable, Callable]] = {
+    "linear": (lambda x: x, lambda p: p, np.ones_like),
+    "sqrt": (np.sqrt, np.square, lambda p: 2.0 * p),
+    "ior": (_ior_to, _ior_from, lambda p: 2.0 / (1.0 - p) ** 2),  # p = (eta - 1) / (eta + 1)
+    "log-linear": (_loglin_to, _loglin_from, _loglin_dfrom),
+}
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One input of a table.
+
+    Attributes
+    ----------
+    name : str
+        Physical quantity, e.g. ``"mu"`` (cos theta), ``"alpha"``, ``"eta"``.
+    lo, hi : float
+        Physical range covered (lookups outside raise ``ValueError``).
+    n : int
+        Number of nodes, uniform in the parameter.
+    parameterisation : str
+        Key of ``PARAMETERISATIONS``: ``"linear"``, ``"sqrt"``, ``"ior"`` or ``"log-linear"``.
+    interpolation : {"linear", "cubic"}
+        Along this axis: linear, or Catmull–Rom cubic convolution (Keys 1981, a = -1/2) with
+        quadratic extrapolation for the ghost nodes beyond the ends.
+    """
+
+    name: str
+    lo: float
+    hi: float
+    n: int
+    parameterisation: str = "linear"
+    interpolation: str = "linear"
+
+    def _maps(self):
+        return PARAMETERISATIONS[self.parameterisation]
+
+    def nodes(self) -> np.ndarray:
+        """Physical node values ``(n,)``; the ends are exactly ``lo`` and ``hi``."""
+        to, back, _ = self._maps()
+        x = back(np.linspace(to(self.lo), to(self.hi), self.n))
+        x[0], x[-1] = self.lo, self.hi
+        return x
+
+    def locate(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """Cell index ``i`` in [0, n - 2] and fraction in [0, 1] of physical values ``x``."""
+        x = _params.real(self.name, x, self.lo, self.hi)
+        to = self._maps()[0]
+        p0, p1 = to(self.lo), to(self.hi)
+        t = (to(x) - p0) / (p1 - p0) * (self.n - 1)
+        i = np.clip(np.floor(t), 0, self.n - 2).astype(np.intp)
+        return i, t - i
+
+    def stencil(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """Node indices and weights ``(..., k)`` of the interpolant at ``x`` (k = 2 or 4)."""
+        i, t = self.locate(x)
+        if self.interpolation == "linear":
+            return np.stack([i, i + 1], -1), np.stack([1.0 - t, t], -1)
+        t2, t3 = t * t, t * t * t
+        w = np.stack([-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0,
+                      -1.5 * t3 + 2.0 * t2 + 0.5 * t, 0.5 * t3 - 0.5 * t2], -1)
+        # ghost nodes by quadratic extrapolation, f(-1) = 3 f0 - 3 f1 + f2 (and mirrored at
+        # the end), folded into a stencil shifted inside the table
+        wm, w0, w1, w2 = (w[..., k] for k in range(4))
+        zero = np.zeros_like(t)
+        at_first = np.stack([w0 + 3 * wm, w1 - 3 * wm, w2 + wm, zero], -1)
+        at_last = np.stack([zero, wm + w2, w0 - 3 * w2, w1 + 3 * w2], -1)
+        w = np.where((i == 0)[..., None], at_first, np.where((i == self.n - 2)[..., None],
+                                                             at_last, w))
+        start = np.clip(i - 1, 0, self.n - 4)
+        return start[..., None] + np.arange(4), w
+
+    def average_weights(self, order: int = 8) -> np.ndarray:
+        """Weights ``(n,)`` with sum_k w_k f_k = 2 int f(x) x dx over the axis, exactly for the
+        interpolant that is linear in the parameter (Gauss–Legendre per cell; exact when x
+        is a polynomial in the parameter, as for "linear" and "sqrt")."""
+        to, back, dback = self._maps()
+        p = np.linspace(to(self.lo), to(self.hi), self.n)
+        t, w = np.polynomial.legendre.leggauss(order)
+        t, w = 0.5 * (t + 1.0), 0.5 * w
+        h = p[1] - p[0]
+        q = (p[:-1, None] + h * t).ravel()  # Gauss points of every cell
+        density = 2.0 * back(q) * dback(q) * h * np.tile(w, self.n - 1)
+        index, weight = self.stencil(np.clip(back(q), self.lo, self.hi))
+        out = np.zeros(self.n)
+        np.add.at(out, index, density[:, None] * weight)
+        return out
+
+    def describe(self) -> dict:
+        return {"name": self.name, "lo": self.lo, "hi": self.hi, "n": self.n,
+                "parameterisation": self.parameterisation, "interpolation": self.interpolation}
+
+
+@dataclass(frozen=True)
+class TableSpec:
+    """Declaration of a table.
+
+    Attributes
+    ----------
+    name : str
+        File stem (``tables/<name>.npz``) and the name used by ``python -m adobe_bsdf bake``.
+    axes : tuple of Axis
+    outputs : tuple of str
+        Output channels, e.g. ``("E_R", "E_T")``.
+    compute : callable
+        ``compute(spec, *node_arrays) -> (values, errors)`` for 1-D arrays of node
+        coordinates (one per axis, physical units); both results ``(n_nodes, n_outputs)``.
+        A module-level function, so that worker processes can run it.
+    quadrature : str
+        One-line description of the method, stored in the metadata.
+    order : int
+        Quadrature order passed to ``compute`` (``bake --check`` re-bakes at a higher one).
+    depends : tuple of str
+        Tables whose baked values ``compute`` reads (derived tables, e.g. averages).
+    description : str
+        What the table holds, with the source equation.
+    """
+
+    name: str
+    axes: tuple
+    outputs: tuple
+    compute: Callable = field(compare=False)
+    quadrature: str = ""
+    order: int = 20
+    depends: tuple = ()
+    description: str = ""
+
+    @property
+    def shape(self) -> tuple:
+        return tuple(a.n for a in self.axes) + (len(self.outputs),)
+
+    def grid(self) -> list[np.ndarray]:
+        """Node coordinates, one flattened array per axis (C order)."""
+        mesh = np.meshgrid(*[a.nodes() for a in self.axes], indexing="ij")
+        return [m.ravel() for m in mesh]
+
+    def describe(self) -> dict:
+        return {"name": self.name, "axes": [a.describe() for a in self.axes],
+                "outputs": list(self.outputs), "quadrature": self.quadrature,
+                "order": self.order, "depends": list(self.depends)}
+
+
+class Table:
+    """Baked node values of a ``TableSpec`` and their interpolation.
+
+    ``table(*coords)`` interpolates multilinearly in the axes' parameters (e.g. sqrt(mu)),
+    broadcasting the coordinates; it returns ``(..., n_outputs)``. Coordinates outside an
+    axis's range raise ``ValueError`` naming the axis.
+    """
+
+    def __init__(self, spec: TableSpec, values: np.ndarray, errors: np.ndarray,
+                 meta: dict | None = None):
+        if values.shape != spec.shape or errors.shape != spec.shape:
+            raise TableError(f"table {spec.name}: values have shape {values.shape}, the "
+                             f"declaration needs {spec.shape}")
+        self.spec = spec
+        self.values = values
+        self.errors = errors
+        self.meta = meta or {}
+
+    def __repr__(self) -> str:
+        return f"Table({self.spec.name!r}, shape={self.values.shape})"
+
+    def __call__(self, *coords) -> np.ndarray:
+        axes = self.spec.axes
+        if len(coords) != len(axes):
+            raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
+                             f"({', '.join(a.name for a in axes)}), got {len(coords)}")
+        stencils = [a.stencil(c) for a, c in zip(axes, coords, strict=True)]
+        shape = np.broadcast_shapes(*(i.shape[:-1] for i, _ in stencils))
+        strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
+        flat = self.values.reshape(-1, self.values.shape[-1])
+        out = np.zeros(shape + (flat.shape[1],))
+        for corner in itertools.product(*(range(i.shape[-1]) for i, _ in stencils)):
+            index = np.zeros(shape, dtype=np.intp)
+            weight = np.ones(shape)
+            for k, (c, (i, w)) in enumerate(zip(corner, stencils, strict=True)):
+                index = index + i[..., c] * strides[k]
+                weight = weight * w[..., c]
+            out += weight[..., None] * flat[index]
+        return out
+
+    def channel(self, name: str) -> int:
+        """Index of output channel ``name``."""
+        return self.spec.outputs.index(name)
+
+
+# -- storage ---------------------------------------------------------------------------------
+def _digest(spec_json: str, values: np.ndarray, errors: np.ndarray) -> str:
+    h = hashlib.sha256(spec_json.encode())
+    h.update(np.ascontiguousarray(values, dtype="<f8").tobytes())
+    h.update(np.ascontiguousarray(errors, dtype="<f8").tobytes())
+    return h.hexdigest()
+
+
+def save(table: Table, path: Path) -> None:
+    """Write ``table`` to ``path`` (``.npz``): values, errors and JSON metadata with a hash."""
+    spec_json = json.dumps(table.spec.describe(), sort_keys=True)
+    meta = dict(table.meta)
+    meta.update(spec=json.loads(spec_json),
+                max_error=float(table.errors.max()), mean_error=float(table.errors.mean()),
+                content_hash=_digest(spec_json, table.values, table.errors))
+    np.savez_compressed(path, values=table.values, errors=table.errors,
+                        meta=np.array(json.dumps(meta, sort_keys=True)))
+
+
+def load(spec: TableSpec, path: Path) -> Table:
+    """Read and verify ``path`` against ``spec``; raise ``TableError`` naming the file."""
+    path = Path(path)
+    if not path.is_file():
+        raise TableError(f"table file {path} is missing; bake it with "
+                         f"`python -m adobe_bsdf bake {spec.name}`")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            values, errors = data["values"], data["errors"]
+            meta = json.loads(str(data["meta"]))
+    except Exception as exc:  # zip, key or JSON errors: all mean a damaged file
+        raise TableError(f"table file {path} cannot be read ({exc}); re-bake it with "
+                         f"`python -m adobe_bsdf bake {spec.name}`") from exc
+    spec_json = json.dumps(spec.describe(), sort_keys=True)
+    if meta.get("spec") != json.loads(spec_json):
+        raise TableError(f"table file {path} was baked for another declaration of "
+                         f"{spec.name} (axes, outputs or quadrature differ); re-bake it")
+    if meta.get("content_hash") != _digest(spec_json, values, errors):
+        raise TableError(f"table file {path} is corrupt: its content hash does not match")
+    return Table(spec, values, errors, meta)
