@@ -21,9 +21,16 @@ import numpy as np
 
 from adobe_bsdf import _params, quadrature
 
-__all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS"]
+__all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS", "luminance"]
 
 ALBEDO_METHODS = ("quadrature", "mc", "table")
+#: Rec. 709 / sRGB luminance weights of linear RGB
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def luminance(rgb) -> np.ndarray:
+    """Luminance ``(...)`` of linear Rec. 709 colours ``(..., 3)``."""
+    return np.asarray(rgb, dtype=np.float64) @ LUMINANCE
 
 
 class Flags(enum.IntFlag):
@@ -168,6 +175,12 @@ class Lobe:
 
     def _sample(self, wo, u):  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def _sampling_weight(self, wo):
+        """Estimate ``(...)`` of the lobe's albedo at ``wo``: the share with which a ``Sum``
+        picks it for sampling (any positive value is correct; closer to the albedo is
+        better)."""
+        return np.ones(wo.shape[:-1])
 
     def _delta_albedo(self, wo):
         """Energy albedo ``(..., 3)`` of the lobe's delta branches (0 for a lobe without)."""

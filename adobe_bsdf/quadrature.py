@@ -335,25 +335,25 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
     are added in closed form by ``lobe._delta_albedo(wo)``.
 
     The grid: the cells of one ``SphereGrid(n_theta, n_phi)`` about the pole +z, a rectangle
-    ``(t, phi)`` shared by the whole batch, mapped to directions with a polar angle
-    ``theta(t)`` of each batch element's own: piecewise linear in ``t``, its knots on ring
-    edges, with the horizon on the grid's horizon edge (where the integrand jumps from
-    reflection to transmission) and, across a refracting interface, the *refraction horizon*
-    on a ring edge of the other hemisphere as well (see below). So no cell straddles a
-    discontinuity of the integrand. All directions of the batch and the three colour channels
-    share one call of ``integrate_cells``: every (batch element, channel) pair is a channel of
-    the vector integrand, and a cell is refined while any of them exceeds its tolerance
-    ``tol / n_cells``.
+    ``(t, phi)`` shared by the whole batch, mapped to directions by a map of each batch
+    element's own (``_DirectionMap``) that puts every edge of the integrand on cell edges, so
+    that the integrand is smooth inside every cell (the Genz–Malik estimate of a cell that an
+    edge crosses can be orders of magnitude too small). The horizon, where the integrand jumps
+    from reflection to transmission, is the grid's horizon edge. Across a refracting interface
+    (energy scale s = (eta_i / eta_o)^2 != 1 for transmission), the other edges are:
 
-    The refraction horizon: a microfacet normal h with h_z = 0 refracts ``wo`` into the ring
-    ``eta_o z_o + eta_i z_i = 0`` of ``wi``, i.e. ``z_i = -z_o / sqrt(s)`` with the energy scale
-    s = (eta_i / eta_o)^2 of the transmission pair. Beyond it lie only directions that need
-    facets facing down, so ``eval`` is 0 there; but GGX's D(h) does not vanish as h_z -> 0
-    (it tends to alpha^2 / pi), so the transmitted lobe *jumps* to 0 on that ring (by ~0.1 for
-    glass with alpha = 0.3). A cell straddling the ring sees the jump only through its nodes,
-    and its ``|I7 - I5|`` can be orders of magnitude below its error (1e-6 true error against
-    a claimed 1e-10), so the ring is made an edge. Lobes whose transmission has s = 1 (no
-    index change), or reflect only, get no such edge.
+    - the *refraction horizon* z_i = -z_o / sqrt(s), where eta_o z_o + eta_i z_i = 0: the
+      facets with h_z = 0 refract ``wo`` there, and beyond it only facets facing down could,
+      so ``eval`` is 0; GGX's D(h) does not vanish as h_z -> 0 (it tends to alpha^2 / pi), so
+      the transmitted lobe *jumps* to 0 on that ring (by ~0.1 for glass with alpha = 0.3);
+    - the cone about ``-wo`` outside which no facet both faces ``wo`` and refracts into
+      ``wi`` (``eval`` vanishes there);
+    - for s < 1, the cone about ``wo`` of the critical angle of total internal reflection,
+      where reflection has a square-root edge.
+
+    All directions of the batch and the three colour channels share one call of
+    ``integrate_cells``: every (batch element, channel) pair is a channel of the vector
+    integrand, and a cell is refined while any of them exceeds its tolerance ``tol / n_cells``.
 
     Guard points: for each ``wo``, ``n_guides`` directions drawn with ``lobe._sample`` (uniforms
     from ``numpy.random.default_rng(seed)``, so the result is deterministic) at which ``eval``
@@ -400,26 +400,13 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
     shape = np.broadcast_shapes(s.pdf.shape[1:], wo.shape[:-1])
     size = int(np.prod(shape))
     wo = np.broadcast_to(wo, shape + (3,))
-    rings = _ring_angles(lobe, wo, grid).reshape(size, grid.n_theta + 1)
-    if np.all(rings == rings[:1]):
-        rings = rings[:1]  # one map for the whole batch: directions broadcast over it
-    t_edges = grid.t_edges
-
-    def polar(t):
-        """Polar angle ``(M, rows)`` of ``t`` ``(M,)`` and its derivative in ``t``."""
-        ring = np.clip(np.searchsorted(t_edges, t, side="right") - 1, 0, grid.n_theta - 1)
-        below, above = rings[:, ring].T, rings[:, ring + 1].T
-        slope = (above - below) / (t_edges[ring + 1] - t_edges[ring])[:, None]
-        return below + (t - t_edges[ring])[:, None] * slope, slope
+    where = _DirectionMap(lobe, wo, grid)
 
     def integrand(x):
-        theta, slope = polar(x[:, 0])
-        sin_theta, phi = np.sin(theta), x[:, 1:2]
-        wi = np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), np.cos(theta)], -1)
-        wi = wi.reshape(x.shape[0], *(shape if rings.shape[0] > 1 else (1,) * len(shape)), 3)
-        # |cos theta_i| times the solid angle per unit t per unit phi, sin(theta) dtheta/dt
-        jacobian = (np.abs(wi[..., 2]) * (sin_theta * slope).reshape(wi.shape[:-1]))
-        weight = jacobian * lobe._energy_scale(wo[None], wi)
+        wi, jacobian = where.directions(x[:, 0], x[:, 1])
+        wi = wi.reshape(x.shape[0], *(shape if wi.shape[1] > 1 else (1,) * len(shape)), 3)
+        weight = (np.abs(wi[..., 2]) * jacobian.reshape(wi.shape[:-1])
+                  * lobe._energy_scale(wo[None], wi))
         f = lobe._eval(wo[None], wi) * weight[..., None]
         return np.broadcast_to(f, (x.shape[0], *shape, 3)).reshape(x.shape[0], 3 * size)
 
@@ -432,8 +419,7 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
         element = np.nonzero(live)[1]
         channel = 3 * element + np.argmax(f[live], axis=-1)
         wi = wi.reshape(n_guides, size, 3)[live]
-        t, phi, cell = _grid_coordinates(wi, element if rings.shape[0] > 1 else 0 * element,
-                                         rings, grid)
+        t, phi, cell = where.coordinates(wi, element)
         key, first = np.unique(cell * size + element, return_index=True)
         points, point_cells = np.stack([t[first], phi[first]], axis=-1), key // size
         point_channels = channel[first]
@@ -450,73 +436,303 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
     return value, cells.error.sum(axis=0).reshape(shape + (3,))
 
 
-def _ring_angles(lobe, wo, grid):
-    """Polar angles ``(..., n_theta + 1)`` of the ring edges of ``albedo``'s map for each ``wo``.
+class _DirectionMap:
+    """``albedo``'s map from the ``(t, phi)`` cells of a ``SphereGrid`` about +z to directions,
+    one for each batch element, that puts the integrand's edges on cell edges.
 
-    ``pi t`` (the grid's own map) with the horizon on ``grid.horizon_edge``, except where the
-    transmission pair has s = ``lobe._energy_scale`` != 1: there the refraction horizon
-    ``z_i = -z_o / sqrt(s)``, where it lies strictly inside the other hemisphere, is moved onto
-    the ring edge of that hemisphere nearest to it, and the map is linear in ``t`` between the
-    pole, that edge, the horizon and the other pole.
+    Each hemisphere of rings (``t`` below or above the grid's horizon edge) maps onto the
+    hemisphere of directions on that side, so the horizon is a ring edge. Within a hemisphere
+    the map is one of
+
+    - *polar*: polar angle ``theta(t)`` about +z, piecewise linear in ``t`` with knots on ring
+      edges, and azimuth ``phi`` (the grid's own map). Across an interface, the refraction
+      horizon is a knot (``_ring_angles``);
+    - *ray*, about a centre ``c`` in the hemisphere: polar coordinates (psi, beta) about ``c``,
+      psi from 0 on the pole ring to the horizon psi_hor(beta) on the horizon ring (every
+      great circle from ``c`` meets it once), with a knot psi = a(beta) on an inner ring edge
+      and beta piecewise linear in ``phi`` with knots on sector edges. a(beta) is an edge of
+      the integrand: the smallest of a cone psi = psi_k about ``c`` and the distances to at
+      most two planes z = const; the beta knots are the rays on which the cone meets a plane
+      (there a(beta) has a kink). Towards the knot and away from it psi is quadratic in the
+      ring coordinate, so that a square-root edge sqrt(a - psi) becomes smooth.
+
+    Ray maps are used for the two edges of a refracting interface (energy scale of
+    transmission s = (eta_i / eta_o)^2 != 1, seen from ``wo``) that are not rings about +z:
+
+    - *transmission*, centre ``-wo``: facets must face ``wo`` and be seen from behind by
+      ``wi``, so the transmitted lobe lives in the cone about ``-wo`` of cos psi_k =
+      min(sqrt(s), 1 / sqrt(s)) (for s > 1 its edge is where the facet turns away from
+      ``wo``, for s < 1 where refraction ends in TIR), cut by the refraction horizon
+      z = -z_o / sqrt(s) (``albedo``) and, for s < 1, by the horizon. There ``eval`` vanishes
+      (like a square) or jumps; a cell that such an edge only clips at a corner can hold
+      support that no node sees (1e-9 of energy at alpha = 0.5, read as 0 with error 0).
+    - *reflection with total internal reflection* (s < 1), centre ``wo``: F(c) = 1 for
+      c = wo.h = cos(psi / 2) below c_c = sqrt(1 - s) and 1 - F ~ sqrt(c - c_c) above it, a
+      square-root edge on the cone psi_k = 2 asin(sqrt(s)) about ``wo``, cut by the horizon;
+      the Genz–Malik estimate of a cell straddling it is 10-20 times too small.
+
+    All maps cover the whole sphere (so any lobe integrates correctly); where a grid has too
+    few rings or sectors for a ray map (fewer than 2 rings in the hemisphere, fewer than 5
+    sectors), the polar map is kept.
+    """
+
+    def __init__(self, lobe, wo, grid):
+        shape = wo.shape[:-1]
+        self.grid = grid
+        n, k_h, m = grid.n_theta, grid.horizon_edge, grid.n_phi
+        self.t_h = grid.t_edges[k_h]
+        z_o = wo[..., 2]
+        side = np.where(z_o < 0.0, -1.0, 1.0)
+        across = np.zeros(shape + (3,))
+        across[..., 2] = -side
+        scale = np.broadcast_to(lobe._energy_scale(wo, across), shape).astype(np.float64)
+        z_o, side, scale = z_o.ravel(), side.ravel(), scale.ravel()
+        size = z_o.size
+        self.size = size
+        self.rings = _ring_angles(z_o, scale, grid)
+        if np.all(self.rings == self.rings[:1]):
+            self.rings = self.rings[:1]  # one map for the whole batch: directions broadcast
+        # -- ray maps, in the frame where wo is above (z mirrored where it is below) ---------
+        wo1 = wo.reshape(size, 3) * np.stack([np.ones(size), np.ones(size), side], -1)
+        cos_o = np.clip(wo1[:, 2], 0.0, 1.0)
+        theta_o = np.arccos(cos_o)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            root = np.sqrt(np.where(np.isfinite(scale) & (scale > 0.0), scale, 1.0))
+            z_d = -cos_o / root  # the refraction horizon, mirrored frame
+        interface = (z_o != 0.0) & (root != 1.0) & (m >= 5)
+        rings_own = np.where(side > 0.0, k_h, n - k_h)
+        rings_other = n - rings_own
+        psi_c = 2.0 * np.arcsin(np.minimum(root, 1.0))
+        tir = interface & (root < 1.0) & (psi_c < 0.5 * np.pi + theta_o) & (rings_own >= 2)
+        transmits = interface & (rings_other >= 2)
+        nan = np.full(size, np.nan)
+        groups = []
+        for chosen, centre_sign, psi_k, z_lo, z_hi in (
+            (tir, 1.0, psi_c, np.zeros(size), nan),
+            (transmits, -1.0, np.arccos(np.minimum(root, 1.0 / root)),
+             np.where((root < 1.0) & (z_d > -1.0), z_d, np.nan),
+             np.where(root < 1.0, 0.0, z_d)),
+        ):
+            elem = np.flatnonzero(chosen)
+            if elem.size:
+                groups.append(_Rays(elem, side[elem], centre_sign * wo1[elem], psi_k[elem],
+                                    z_lo[elem], z_hi[elem], grid))
+        self.groups = groups
+
+    def _polar(self, t, phi):
+        """Directions ``(M, rows, 3)`` and Jacobians ``(M, rows)`` of the polar maps."""
+        t_edges, rings = self.grid.t_edges, self.rings
+        ring = np.clip(np.searchsorted(t_edges, t, side="right") - 1, 0, self.grid.n_theta - 1)
+        below, above = rings[:, ring].T, rings[:, ring + 1].T
+        slope = (above - below) / (t_edges[ring + 1] - t_edges[ring])[:, None]
+        theta = below + (t - t_edges[ring])[:, None] * slope
+        sin_theta, phi = np.sin(theta), phi[:, None]
+        wi = np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), np.cos(theta)], -1)
+        # the solid angle per unit t per unit phi, sin(theta) dtheta/dt
+        return wi, sin_theta * slope
+
+    def directions(self, t, phi):
+        """Directions ``(M, E, 3)`` and Jacobians ``(M, E)`` (solid angle per unit ``t`` per
+        unit ``phi``) of grid points ``t, phi`` ``(M,)``; E is 1 where every batch element
+        shares one map, else the batch size."""
+        wi, jacobian = self._polar(t, phi)
+        if not self.groups:
+            return wi, jacobian
+        wi = np.broadcast_to(wi, (t.shape[0], self.size, 3)).copy()
+        jacobian = np.broadcast_to(jacobian, (t.shape[0], self.size)).copy()
+        for rays in self.groups:
+            ray_wi, ray_jacobian, inside = rays.directions(t, phi)
+            cols = rays.elem
+            wi[:, cols] = np.where(inside[..., None], ray_wi, wi[:, cols])
+            jacobian[:, cols] = np.where(inside, ray_jacobian, jacobian[:, cols])
+        return wi, jacobian
+
+    def coordinates(self, w, element):
+        """``(t, phi)`` and flat cell index of unit directions ``w`` ``(P, 3)`` of batch elements
+        ``element`` ``(P,)``; a direction above (below) the horizon is kept in a ring above
+        (below) its edge, against rounding."""
+        grid, n = self.grid, self.grid.n_theta
+        rings = self.rings
+        row = element if rings.shape[0] > 1 else np.zeros_like(element)
+        theta = np.arctan2(np.hypot(w[:, 0], w[:, 1]), w[:, 2])
+        phi = np.mod(np.arctan2(w[:, 1], w[:, 0]), 2.0 * np.pi)
+        # polar: one sorted array for all rows, row r's edges shifted by 4 pi r
+        shift = 4.0 * np.pi * np.arange(rings.shape[0])
+        flat = (rings + shift[:, None]).ravel()
+        ring = np.searchsorted(flat, theta + shift[row], side="right") - 1 - row * (n + 1)
+        ring = np.clip(ring, 0, n - 1)
+        a0, a1 = rings[row, ring], rings[row, ring + 1]
+        t0, t1 = grid.t_edges[ring], grid.t_edges[ring + 1]
+        t = t0 + np.clip((theta - a0) / np.where(a1 > a0, a1 - a0, 1.0), 0.0, 1.0) * (t1 - t0)
+        for rays in self.groups:
+            index = np.full(self.size, -1)
+            index[rays.elem] = np.arange(rays.elem.size)
+            k = index[element]
+            mine = (k >= 0) & (w[:, 2] * rays.hemisphere[np.maximum(k, 0)] > 0.0)
+            t[mine], phi[mine] = rays.coordinates(w[mine], k[mine])
+        ring = np.clip(np.searchsorted(grid.t_edges, t, side="right") - 1, 0, n - 1)
+        k_h = grid.horizon_edge
+        ring = np.where(w[:, 2] > 0.0, np.minimum(ring, k_h - 1), np.maximum(ring, k_h))
+        sector = np.clip((phi * (grid.n_phi / (2.0 * np.pi))).astype(np.int64), 0,
+                         grid.n_phi - 1)
+        return t, phi, ring * grid.n_phi + sector
+
+
+class _Rays:
+    """Ray maps (see ``_DirectionMap``) of the hemisphere of the centres ``c`` of batch
+    elements ``elem``, given in the frame mirrored by ``side`` (the side of ``wo``), with cones
+    ``psi_k`` and planes ``z_lo`` below and ``z_hi`` above ``c`` (NaN: none) in that frame."""
+
+    def __init__(self, elem, side, c, psi_k, z_lo, z_hi, grid):
+        self.elem, self.side, self.c, self.psi_k = elem, side, c, psi_k
+        self.z_lo, self.z_hi = z_lo, z_hi
+        n, k_h, m = grid.n_theta, grid.horizon_edge, grid.n_phi
+        t_edges = grid.t_edges
+        self.t_h = t_h = t_edges[k_h]
+        up = c[:, 2] > 0.0  # the hemisphere of the rings, in the mirrored frame
+        self.hemisphere = np.where(up, side, -side)  # ... and in the true one
+        self.upper = self.hemisphere > 0.0  # the rings above the grid's horizon edge
+        self.cos_c = c[:, 2]
+        self.sin_c = np.sqrt(np.maximum(1.0 - c[:, 2] ** 2, 0.0))
+        # frame about c: e1 the tangent pointing down (to decreasing z), e2 = c x e1
+        tilted = self.sin_c > 0.0
+        e1 = np.where(tilted[:, None],
+                      (self.cos_c[:, None] * c - np.array([0.0, 0.0, 1.0]))
+                      / np.where(tilted, self.sin_c, 1.0)[:, None], np.array([1.0, 0.0, 0.0]))
+        self.e1, self.e2 = e1, np.cross(c, e1)
+        # the rays on which the cone meets a plane: z at psi_k along beta equals the plane's
+        with np.errstate(divide="ignore", invalid="ignore"):
+            den = np.sin(psi_k) * self.sin_c
+            cos_lo = (np.cos(psi_k) * self.cos_c - z_lo) / den
+            cos_hi = (np.cos(psi_k) * self.cos_c - z_hi) / den
+        has_lo, has_hi = np.abs(cos_lo) < 1.0, np.abs(cos_hi) < 1.0
+        b_lo = np.arccos(np.where(has_lo, cos_lo, 0.0))
+        b_hi = np.arccos(np.where(has_hi, cos_hi, 0.0))
+        # fill a missing knot with any value between its neighbours (no kink there)
+        b1 = np.where(has_lo, b_lo, np.where(has_hi, 0.5 * b_hi, np.pi / 3.0))
+        b2 = np.where(has_hi, b_hi, 0.5 * (b1 + np.pi))
+        half = (m - 1) // 2
+        j1 = np.clip(np.rint(b1 / (2.0 * np.pi) * m), 1, half - 1)
+        j2 = np.clip(np.rint(b2 / (2.0 * np.pi) * m), j1 + 1, half)
+        zero, full = np.zeros_like(b1), np.full_like(b1, 2.0 * np.pi)
+        self.phi_knots = np.stack([zero, j1, j2, m - j2, m - j1, m + zero], -1) * (2 * np.pi / m)
+        self.beta_knots = np.stack([zero, b1, b2, full - b2, full - b1, full], -1)
+        # the ring edge of the knot psi = a(beta), in u (0 on the pole ring, 1 on the horizon)
+        n_rings = np.where(self.upper, k_h, n - k_h)
+        theta_c = np.arccos(np.abs(self.cos_c))
+        i_c = np.clip(np.rint(psi_k / (0.5 * np.pi + theta_c) * n_rings), 1, n_rings - 1)
+        i_c = i_c.astype(np.int64)
+        self.u_c = np.where(self.upper, t_edges[np.minimum(i_c, k_h)] / t_h,
+                            (1.0 - t_edges[np.maximum(n - i_c, k_h)]) / (1.0 - t_h))
+        self.dudt = np.where(self.upper, 1.0 / t_h, 1.0 / (1.0 - t_h))
+
+    def _to_plane(self, z_p, beta, k):
+        """Angle along the rays ``beta`` from the centres of maps ``k`` to the planes
+        ``z = z_p`` (inf: never)."""
+        a, b = self.cos_c[k], -np.cos(beta) * self.sin_c[k]  # z(psi) = a cos psi + b sin psi
+        r = np.hypot(a, b)
+        phase = np.arctan2(b, a)
+        with np.errstate(invalid="ignore"):
+            q = z_p / r
+            psi = np.mod(phase + np.where(z_p < a, 1.0, -1.0) * np.arccos(np.clip(q, -1, 1)),
+                         2.0 * np.pi)
+        return np.where(np.abs(q) <= 1.0, psi, np.inf)  # NaN planes compare False: inf
+
+    def _edges(self, beta, k=slice(None)):
+        """The knot a(beta) and the horizon psi_hor(beta) along the rays ``beta`` of maps
+        ``k``."""
+        horizon = self._to_plane(0.0, beta, k)
+        knot = np.minimum(self.psi_k[k], np.minimum(self._to_plane(self.z_lo[k], beta, k),
+                                                    self._to_plane(self.z_hi[k], beta, k)))
+        return np.minimum(knot, horizon), horizon
+
+    def directions(self, t, phi):
+        """Directions ``(M, n, 3)``, Jacobians ``(M, n)`` and whether ``t`` is in the
+        hemisphere of the map ``(M, n)``, for ``t, phi`` ``(M,)``."""
+        t = t[:, None]
+        inside = (t < self.t_h) == self.upper
+        u = np.clip(np.where(self.upper, t / self.t_h, (1.0 - t) / (1.0 - self.t_h)), 0.0, 1.0)
+        beta, dbeta = _piecewise_linear(phi[:, None], self.phi_knots, self.beta_knots)
+        a, end = self._edges(beta)
+        u_c = self.u_c
+        x = np.minimum(u / u_c, 1.0)
+        y = np.maximum((u - u_c) / (1.0 - u_c), 0.0)
+        first = u <= u_c
+        psi = np.where(first, a * x * (2.0 - x), a + (end - a) * y * y)
+        dpsi = np.where(first, 2.0 * a * (1.0 - x) / u_c, 2.0 * (end - a) * y / (1.0 - u_c))
+        cos_b, sin_b, cos_p, sin_p = np.cos(beta), np.sin(beta), np.cos(psi), np.sin(psi)
+        wi = (cos_p[..., None] * self.c
+              + sin_p[..., None] * (cos_b[..., None] * self.e1 + sin_b[..., None] * self.e2))
+        wi[..., 2] *= self.side
+        return wi, sin_p * dpsi * self.dudt * dbeta, inside
+
+    def coordinates(self, w, k):
+        """``(t, phi)`` of directions ``w`` ``(P, 3)`` in the hemispheres of maps ``k``."""
+        w = w * np.stack([np.ones(k.size), np.ones(k.size), self.side[k]], -1)
+        along = np.sum(w * self.c[k], -1)
+        across_1, across_2 = np.sum(w * self.e1[k], -1), np.sum(w * self.e2[k], -1)
+        psi = np.arctan2(np.hypot(across_1, across_2), along)
+        beta = np.mod(np.arctan2(across_2, across_1), 2.0 * np.pi)
+        phi = _piecewise_linear(beta[None], self.beta_knots[k], self.phi_knots[k])[0][0]
+        a, end = self._edges(beta, k)
+        u_c = self.u_c[k]
+        x = 1.0 - np.sqrt(np.clip(1.0 - psi / np.where(a > 0.0, a, 1.0), 0.0, 1.0))
+        y = np.sqrt(np.clip((psi - a) / np.where(end > a, end - a, 1.0), 0.0, 1.0))
+        u = np.where(psi <= a, u_c * x, u_c + (1.0 - u_c) * y)
+        t = np.where(self.upper[k], u * self.t_h, 1.0 - u * (1.0 - self.t_h))
+        return t, phi
+
+
+def _piecewise_linear(x, x_knots, y_knots):
+    """Piecewise linear interpolation ``(M, E)`` and its slope at ``x`` ``(M, E)`` or ``(M, 1)``,
+    with increasing knots ``x_knots`` and values ``y_knots``, ``(E, K)``, per column."""
+    inner = x_knots[:, 1:-1]
+    seg = np.sum(x[..., None] >= inner, axis=-1)
+    seg = np.broadcast_to(seg, np.broadcast_shapes(seg.shape, x_knots.shape[:1]))
+    cols = np.arange(x_knots.shape[0])
+    x0, x1 = x_knots[cols, seg], x_knots[cols, seg + 1]
+    y0, y1 = y_knots[cols, seg], y_knots[cols, seg + 1]
+    slope = (y1 - y0) / np.where(x1 > x0, x1 - x0, 1.0)
+    return y0 + (x - x0) * slope, slope
+
+
+def _ring_angles(z_o, scale, grid):
+    """Polar angles ``(E, n_theta + 1)`` of the ring edges of the polar maps of
+    ``_DirectionMap``, for ``wo`` with z components ``z_o`` ``(E,)`` and energy scales of
+    transmission ``scale`` ``(E,)``.
+
+    ``pi t`` (the grid's own map) with the horizon on ``grid.horizon_edge``, except where
+    ``scale`` != 1: there the refraction horizon ``z_i = -z_o / sqrt(scale)``, where it lies
+    strictly inside the other hemisphere, is moved onto the ring edge of that hemisphere
+    nearest to it, and the map is linear in ``t`` between the pole, that edge, the horizon and
+    the other pole.
     """
     n, k_h = grid.n_theta, grid.horizon_edge
     t_edges = grid.t_edges
-    z_o = wo[..., 2]
-    below = np.array([0.0, 0.0, -1.0])
-    across = np.where((z_o > 0.0)[..., None], below, -below)
-    scale = np.broadcast_to(lobe._energy_scale(wo, across), z_o.shape)
     with np.errstate(divide="ignore", invalid="ignore"):
         z_i = -z_o / np.sqrt(scale)
-    theta_i = np.arccos(np.clip(z_i, -1.0, 1.0))
+    theta_i = np.arccos(np.clip(np.where(np.isfinite(z_i), z_i, 0.0), -1.0, 1.0))
     # the ring edges allowed for it: inside the hemisphere of the ring, at least one ring away
     # from the horizon and from the pole
-    first = np.where(z_i < 0.0, k_h + 1, 1)
-    last = np.where(z_i < 0.0, n - 1, k_h - 1)
+    lower = z_i < 0.0
+    first = np.where(lower, k_h + 1, 1)
+    last = np.where(lower, n - 1, k_h - 1)
     k_i = np.clip(np.rint(theta_i / np.pi * n), first, last).astype(np.int64)
-    moved = ((scale != 1.0) & (z_o != 0.0) & (np.abs(z_i) < 1.0) & (first <= last)
-             & np.isfinite(z_i))
+    moved = ((scale != 1.0) & (z_o != 0.0) & np.isfinite(z_i) & (np.abs(z_i) < 1.0)
+             & (first <= last))
     k_i = np.where(moved, k_i, k_h)  # a repeated knot: no change to the map
     theta_i = np.where(moved, theta_i, 0.5 * np.pi)
     # knots (t, theta) in increasing t: pole, horizon and refraction horizon in either order
-    t_h = t_edges[k_h]
-    lower = z_i < 0.0
-    t_knots = np.stack([np.zeros_like(theta_i), np.where(lower, t_h, t_edges[k_i]),
-                        np.where(lower, t_edges[k_i], t_h), np.ones_like(theta_i)], axis=-1)
-    th_knots = np.stack([np.zeros_like(theta_i), np.where(lower, 0.5 * np.pi, theta_i),
-                         np.where(lower, theta_i, 0.5 * np.pi), np.full_like(theta_i, np.pi)],
-                        axis=-1)
-    # piecewise linear interpolation at every ring edge, vectorised over the batch
-    seg = np.clip(np.sum(t_edges[:, None] >= t_knots[..., None, 1:3], axis=-1), 0, 2)
-    t0 = np.take_along_axis(t_knots, seg, -1)
-    t1 = np.take_along_axis(t_knots, seg + 1, -1)
-    a0 = np.take_along_axis(th_knots, seg, -1)
-    a1 = np.take_along_axis(th_knots, seg + 1, -1)
-    span = t1 - t0
-    frac = np.where(span > 0.0, (t_edges - t0) / np.where(span > 0.0, span, 1.0), 0.0)
-    rings = a0 + frac * (a1 - a0)
-    rings[..., 0], rings[..., -1] = 0.0, np.pi
+    t_h, zero, one = t_edges[k_h], np.zeros_like(theta_i), np.ones_like(theta_i)
+    t_knots = np.stack([zero, np.where(lower, t_h, t_edges[k_i]),
+                        np.where(lower, t_edges[k_i], t_h), one], axis=-1)
+    th_knots = np.stack([zero, np.where(lower, 0.5 * np.pi, theta_i),
+                         np.where(lower, theta_i, 0.5 * np.pi), np.pi * one], axis=-1)
+    rings, _ = _piecewise_linear(np.broadcast_to(t_edges[:, None], (n + 1, z_o.size)),
+                                 t_knots, th_knots)
+    rings = np.ascontiguousarray(rings.T)
+    rings[:, 0], rings[:, -1] = 0.0, np.pi
     return rings
-
-
-def _grid_coordinates(w, row, rings, grid):
-    """``(t, phi)`` and flat cell index of unit directions ``w`` ``(P, 3)`` under the map of
-    ``albedo`` with ring-edge angles ``rings[row]``; directions above (below) the horizon are
-    kept in the rings above (below) its edge, against rounding."""
-    n = grid.n_theta
-    theta = np.arctan2(np.hypot(w[:, 0], w[:, 1]), w[:, 2])
-    phi = np.mod(np.arctan2(w[:, 1], w[:, 0]), 2.0 * np.pi)
-    # one sorted array for all rows: row r's edges shifted by 4 pi r
-    shift = 4.0 * np.pi * np.arange(rings.shape[0])
-    flat = (rings + shift[:, None]).ravel()
-    ring = np.searchsorted(flat, theta + shift[row], side="right") - 1 - row * (n + 1)
-    ring = np.clip(ring, 0, n - 1)
-    k_h = grid.horizon_edge
-    ring = np.where(w[:, 2] > 0.0, np.minimum(ring, k_h - 1), np.maximum(ring, k_h))
-    a0, a1 = rings[row, ring], rings[row, ring + 1]
-    t0, t1 = grid.t_edges[ring], grid.t_edges[ring + 1]
-    t = t0 + np.clip((theta - a0) / (a1 - a0), 0.0, 1.0) * (t1 - t0)
-    sector = np.clip((phi * (grid.n_phi / (2.0 * np.pi))).astype(np.int64), 0, grid.n_phi - 1)
-    return t, phi, ring * grid.n_phi + sector
 
 
 def _unit_axis(axis) -> np.ndarray:

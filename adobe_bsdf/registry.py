@@ -34,6 +34,9 @@ class CheckCase:
         ``peak(wo) -> (3,)``: direction of that peak (e.g. the mirror direction).
     tags : tuple of str
         Free-form tags (e.g. ``"fast"`` for the cases the command runs by default).
+    furnace_tol : float
+        Allowed |quadrature albedo - expected_albedo| (table-based models: their measured
+        interpolation error, ``docs/tables.md``).
     """
 
     name: str
@@ -43,6 +46,7 @@ class CheckCase:
     width: float = 0.0
     peak: Callable | None = None
     tags: tuple = field(default=("fast",))
+    furnace_tol: float = 1e-6
 
 
 _CASES: list[CheckCase] = []

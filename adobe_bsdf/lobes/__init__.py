@@ -3,10 +3,24 @@
 ``Lambert(albedo)``                                         ideal diffuse reflection
 ``Conductor(alpha_x, alpha_y=None, fresnel=None, masking)`` rough GGX reflection
 ``Dielectric(eta, alpha_x, alpha_y=None, masking)``         rough GGX reflection + refraction
+``Sum(*lobes)``                                             sum, sampled as a mixture
+``ConductorMultipleScattering`` / ``ConductorMS``           Kulla–Conty for metals (x base colour^2)
+``DielectricMultipleScattering`` / ``DielectricMS``         Kulla–Conty for rough dielectrics
+``ASMSpecular``, ``ASMDiffuse``, ``asm_dielectric_base``    ASM energy-conserving diffuse (eq. 1)
 """
 
+from adobe_bsdf.lobes.asm_diffuse import ASMDiffuse, ASMSpecular, asm_dielectric_base
 from adobe_bsdf.lobes.conductor import Conductor
 from adobe_bsdf.lobes.dielectric import Dielectric
+from adobe_bsdf.lobes.kulla_conty import (
+    ConductorMS,
+    ConductorMultipleScattering,
+    DielectricMS,
+    DielectricMultipleScattering,
+)
 from adobe_bsdf.lobes.lambert import Lambert
+from adobe_bsdf.lobes.sum import Sum
 
-__all__ = ["Lambert", "Conductor", "Dielectric"]
+__all__ = ["Lambert", "Conductor", "Dielectric", "Sum", "ConductorMultipleScattering",
+           "ConductorMS", "DielectricMultipleScattering", "DielectricMS", "ASMSpecular",
+           "ASMDiffuse", "asm_dielectric_base"]

@@ -7,7 +7,7 @@ from functools import partial
 import numpy as np
 
 from adobe_bsdf import fresnel
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
 from adobe_bsdf.frame import dot, normalize, reflect
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
@@ -91,6 +91,20 @@ class Conductor(Lobe):
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
 
+
+    def _albedo_table(self, wo):
+        """E(mu_o, sqrt(alpha_x alpha_y)) of ``tables`` "ggx_conductor"; F = 1 only."""
+        if self.fresnel is not None:
+            raise ValueError("method = 'table' needs fresnel = None (F = 1) for a Conductor: "
+                             "the tables hold the F = 1 albedo")
+        from adobe_bsdf.lobes.kulla_conty import conductor_energy
+
+        E, error = conductor_energy(self.distribution, wo)
+        return (np.broadcast_to(E[..., None], E.shape + (3,)),
+                np.broadcast_to(error[..., None], error.shape + (3,)))
+
+    def _sampling_weight(self, wo):
+        return luminance(self._F(np.abs(wo[..., 2])))
 
     def _delta_albedo(self, wo):
         """F(cos theta_o) where the lobe is a perfect mirror and ``wo`` is above, else 0."""

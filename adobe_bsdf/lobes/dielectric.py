@@ -11,7 +11,7 @@ from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
 
-__all__ = ["Dielectric"]
+__all__ = ["Dielectric", "interface_energy_scale"]
 
 
 def _mirror_z(w, s):
@@ -130,9 +130,16 @@ class Dielectric(Lobe):
         return np.where(valid, np.where(reflection, pdf_r, pdf_t), 0.0)
 
     def _energy_scale(self, wo, wi):
-        """(eta_i / eta_o)^2 for transmission pairs, 1 for reflection (design.md)."""
-        eta = np.where(wo[..., 2] < 0.0, 1.0 / self.eta, self.eta)
-        return np.where(wo[..., 2] * wi[..., 2] < 0.0, eta * eta, 1.0)
+        return interface_energy_scale(self.eta, wo, wi)
+
+    def _albedo_table(self, wo):
+        """E_R + E_T of the tables of ``adobe_bsdf.tables`` at alpha = sqrt(alpha_x alpha_y)
+        (1 where the interface is smooth or index-matched)."""
+        from adobe_bsdf.lobes.kulla_conty import dielectric_energy
+
+        E, error = dielectric_energy(self.eta, self.distribution, wo)
+        return (np.broadcast_to(E[..., None], E.shape + (3,)),
+                np.broadcast_to(error[..., None], error.shape + (3,)))
 
     # -- sampling -------------------------------------------------------------------------
     def _branches(self, wo, u2):
@@ -199,6 +206,13 @@ class Dielectric(Lobe):
         """
         delta = (self.distribution.smooth | (self.eta == 1.0)) & (wo[..., 2] != 0.0)
         return np.where(delta[..., None], 1.0, np.zeros(wo.shape[:-1] + (3,)))
+
+
+def interface_energy_scale(eta, wo, wi):
+    """(eta_i / eta_o)^2 for transmission pairs across an interface of relative index
+    ``eta`` = n_below / n_above, 1 for reflection pairs (design.md)."""
+    eta = np.where(wo[..., 2] < 0.0, 1.0 / eta, eta)
+    return np.where(wo[..., 2] * wi[..., 2] < 0.0, eta * eta, 1.0)
 
 
 def _straight_through(wo):

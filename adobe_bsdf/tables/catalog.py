@@ -4,8 +4,8 @@
 |---|---|---|---|
 | ``ggx_conductor`` | mu, alpha | E | Kulla & Conty 2017; seed ``000`` §1.2 |
 | ``ggx_conductor_avg`` | alpha | E_avg | the mu-average 2 int E mu dmu of the above |
-| ``ggx_dielectric_outside`` | mu, alpha, eta | E_R, E_T | seed ``000`` §1.2 (light from the less dense side) |
-| ``ggx_dielectric_inside`` | mu, alpha, eta | E_R, E_T | the same seen from the dense side (index 1 / eta) |
+| ``ggx_dielectric_outside`` | mu, alpha, eta | E_R, E_T | seed ``000`` §1.2, light side |
+| ``ggx_dielectric_inside`` | mu, alpha, eta | E_R, E_T | the same from the dense side (1 / eta) |
 | ``ggx_dielectric_*_avg`` | alpha, eta | E_R_avg, E_T_avg | mu-averages of the two above |
 | ``asm_diffuse_L`` | mu, roughness, ior | L | seed ``000`` §1.1 eq. 1, lobe integral L |
 | ``asm_diffuse_T`` | roughness, ior | T | seed ``000`` §1.1 eq. 1, total integral T |
@@ -18,8 +18,6 @@ energy it is meant to restore (``docs/tables.md``).
 """
 
 from __future__ import annotations
-
-import dataclasses
 
 import numpy as np
 
@@ -84,11 +82,12 @@ def _average(spec, *coords, parent: Table):
     return full(*coords), errors(*coords)
 
 
-_MU = Axis("mu", 0.0, 1.0, 64, "log-linear", "cubic")
-_ALPHA = Axis("alpha", 0.0, ALPHA_MAX, 64, "log-linear", "cubic")
-_ETA = Axis("eta", 1.0, ETA_MAX, 16, "ior", "cubic")
-_ROUGHNESS = Axis("roughness", 0.0, 1.0, 64, "log-linear", "cubic")
-_IOR = Axis("ior", 1.0, ETA_MAX, 16, "ior", "cubic")
+_MU = Axis("mu", 0.0, 1.0, 48, "log-linear", "cubic")
+_ALPHA = Axis("alpha", 0.0, ALPHA_MAX, 48, "log-linear", "cubic")
+_ALPHA_128 = Axis("alpha", 0.0, ALPHA_MAX, 128, "log-linear", "cubic")
+_ETA = Axis("eta", 1.0, ETA_MAX, 12, "ior", "cubic")
+_ROUGHNESS = Axis("roughness", 0.0, 1.0, 48, "log-linear", "cubic")
+_IOR = Axis("ior", 1.0, ETA_MAX, 12, "ior", "cubic")
 
 
 def _spec(name, axes, outputs, compute, description, depends=()):
@@ -97,11 +96,11 @@ def _spec(name, axes, outputs, compute, description, depends=()):
 
 
 SPECS: dict[str, TableSpec] = {s.name: s for s in [
-    _spec("ggx_conductor", (dataclasses.replace(_MU, n=128), dataclasses.replace(_ALPHA, n=128)),
-          ("E",), _conductor,
+    _spec("ggx_conductor", (Axis("mu", 0.0, 1.0, 128, "log-linear", "cubic"), _ALPHA_128), ("E",),
+          _conductor,
           "directional albedo E(mu, alpha) of a GGX conductor with F = 1 (height-correlated "
           "Smith)"),
-    _spec("ggx_conductor_avg", (_ALPHA,), ("E_avg",), _average,
+    _spec("ggx_conductor_avg", (_ALPHA_128,), ("E_avg",), _average,
           "E_avg(alpha) = 2 int E(mu, alpha) mu dmu", depends=("ggx_conductor",)),
     _spec("ggx_dielectric_outside", (_MU, _ALPHA, _ETA), ("E_R", "E_T"), _dielectric_outside,
           "reflected and transmitted energy of a rough dielectric interface seen from the "

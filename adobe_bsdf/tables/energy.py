@@ -244,7 +244,9 @@ def ggx_energy(mu, alpha, eta=None, order: int = 20) -> Energy:
 
     Returns
     -------
-    Energy: E_R, E_T and error estimates |Q(order) - Q(2 order / 3)|.
+    Energy: E_R, E_T and error estimates |Q(order) - Q(2 order / 3)| (the error of the lower
+    order: conservative, the rule converges geometrically). ``eta == 1`` is the closed form
+    E_R = 0, E_T = 1 / (2 - G1(wo)).
     """
     arrays = [mu, alpha] + ([] if eta is None else [eta])
     arrays = np.broadcast_arrays(*[np.asarray(a, dtype=np.float64) for a in arrays])
@@ -258,4 +260,13 @@ def ggx_energy(mu, alpha, eta=None, order: int = 20) -> Energy:
         hi_r, hi_t = _integrate(*args, order)
         lo_r, lo_t = _integrate(*args, low)
         out[:, start:start + CHUNK] = hi_r, hi_t, np.abs(hi_r - lo_r), np.abs(hi_t - lo_t)
+    if eta is not None:
+        # index-matched: no reflection, wt = -wo for every facet, so E_T = G2(wo, -wo) / G1(wo)
+        # = 1 / (2 - G1(wo)) in closed form (1/2 in the grazing limit, where the refracted
+        # direction lies on the horizon for every facet and the quadrature is degenerate)
+        mu_f, alpha_f = flat[0], flat[1]
+        matched = flat[2] == 1.0
+        G1 = 2.0 * mu_f / (mu_f + np.sqrt(mu_f * mu_f + alpha_f * alpha_f * (1.0 - mu_f * mu_f)))
+        out[:, matched] = 0.0
+        out[1, matched] = 1.0 / (2.0 - G1[matched])
     return Energy(*(o.reshape(shape) for o in out))

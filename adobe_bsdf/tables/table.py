@@ -226,6 +226,14 @@ class Table:
         return f"Table({self.spec.name!r}, shape={self.values.shape})"
 
     def __call__(self, *coords) -> np.ndarray:
+        return self._interpolate(self.values, coords, absolute=False)
+
+    def error(self, *coords) -> np.ndarray:
+        """Quadrature error estimate carried to ``coords``: sum of |weight| x node error
+        (the interpolation error itself is measured separately, ``docs/tables.md``)."""
+        return self._interpolate(self.errors, coords, absolute=True)
+
+    def _interpolate(self, data, coords, absolute):
         axes = self.spec.axes
         if len(coords) != len(axes):
             raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
@@ -233,7 +241,7 @@ class Table:
         stencils = [a.stencil(c) for a, c in zip(axes, coords, strict=True)]
         shape = np.broadcast_shapes(*(i.shape[:-1] for i, _ in stencils))
         strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
-        flat = self.values.reshape(-1, self.values.shape[-1])
+        flat = data.reshape(-1, data.shape[-1])
         out = np.zeros(shape + (flat.shape[1],))
         for corner in itertools.product(*(range(i.shape[-1]) for i, _ in stencils)):
             index = np.zeros(shape, dtype=np.intp)
@@ -241,7 +249,7 @@ class Table:
             for k, (c, (i, w)) in enumerate(zip(corner, stencils, strict=True)):
                 index = index + i[..., c] * strides[k]
                 weight = weight * w[..., c]
-            out += weight[..., None] * flat[index]
+            out += (np.abs(weight) if absolute else weight)[..., None] * flat[index]
         return out
 
     def channel(self, name: str) -> int:

@@ -1,0 +1,306 @@
+"""Kulla–Conty multiple scattering for GGX conductors and dielectrics (seed ``000`` §1.2).
+
+Public API
+----------
+``ConductorMultipleScattering``   the separable term restoring the energy a GGX conductor
+                                  loses to single scattering, times base_color^2.
+``ConductorMS``                   ``Conductor`` + that term.
+``DielectricMultipleScattering``  reflection and transmission terms for a rough dielectric
+                                  interface, both sides.
+``DielectricMS``                  ``Dielectric`` + that term.
+``conductor_energy``, ``dielectric_energy``  table lookups of the single-scattering energy.
+
+The tables are isotropic: an anisotropic pair of alphas is looked up at
+alpha = sqrt(alpha_x alpha_y) (error measured in ``docs/tables.md``). Averages E_avg are the
+exact mu-averages of the interpolated E, so each term restores exactly 1 - E(mu_o) (up to the
+interpolation error of E) and a white furnace measures the tables' interpolation error.
+
+References: C. Kulla, A. Conty, "Revisiting physically based shading at Imageworks",
+SIGGRAPH 2017 course notes; seed ``000`` (Kutz et al. 2021) §1.2.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adobe_bsdf import _params, tables
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.lobes.conductor import Conductor
+from adobe_bsdf.lobes.dielectric import Dielectric, _mirror_z, interface_energy_scale
+from adobe_bsdf.lobes.sum import Sum
+from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.registry import CheckCase, register
+from adobe_bsdf.sampling import cosine_hemisphere
+
+__all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScattering",
+           "DielectricMS", "conductor_energy", "dielectric_energy", "table_alpha"]
+
+
+def table_alpha(distribution: GGX) -> np.ndarray:
+    """The isotropic alpha of the tables: sqrt(alpha_x alpha_y), 0 where smooth; checked to
+    lie within the tables' range."""
+    d = distribution
+    alpha = np.where(d.smooth, 0.0, np.sqrt(d.alpha_x * d.alpha_y))
+    return _params.real("sqrt(alpha_x alpha_y)", alpha, 0.0, tables.ALPHA_MAX)
+
+
+def conductor_energy(distribution: GGX, wo):
+    """Single-scattering albedo E(mu_o) (F = 1) and its node error; 0 below the surface."""
+    table = tables.get("ggx_conductor")
+    alpha = table_alpha(distribution)
+    mu = np.maximum(wo[..., 2], 0.0)
+    up = wo[..., 2] > 0.0
+    return (np.where(up, table(mu, alpha)[..., 0], 0.0),
+            np.where(up, table.error(mu, alpha)[..., 0], 0.0))
+
+
+def _sides(eta):
+    """(eta >= 1, index ratio dense / light)."""
+    light_above = eta >= 1.0
+    return light_above, np.where(light_above, eta, 1.0 / eta)
+
+
+def _checked_ratio(eta):
+    ratio = _sides(eta)[1]
+    return _params.real("max(eta, 1/eta)", ratio, 1.0, tables.ETA_MAX)
+
+
+def dielectric_energy(eta, distribution: GGX, wo):
+    """E_R + E_T of a rough interface seen from ``wo`` (either side) and its node error."""
+    alpha = table_alpha(distribution)
+    light_above, ratio = _sides(eta)
+    ratio = _checked_ratio(eta)
+    mu = np.abs(wo[..., 2])
+    on_light = (wo[..., 2] > 0.0) == light_above
+    total, error = 0.0, 0.0
+    for name, here in (("ggx_dielectric_outside", on_light), ("ggx_dielectric_inside",
+                                                              ~on_light)):
+        t = tables.get(name)
+        total = total + np.where(here, t(mu, alpha, ratio).sum(-1), 0.0)
+        error = error + np.where(here, t.error(mu, alpha, ratio).sum(-1), 0.0)
+    exact = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
+    return np.where(exact, 1.0, total), np.where(exact, 0.0, error)
+
+
+class _CosineLobe(Lobe):
+    """Shared sampling of separable terms: cosine-weighted on the side chosen by
+    ``_branch``; ``eval`` and the branch probability come from the subclass."""
+
+    def _reflect_probability(self, wo):
+        return np.ones(wo.shape[:-1])
+
+    def _pdf(self, wo, wi):
+        p_r = self._reflect_probability(wo)
+        same = wo[..., 2] * wi[..., 2] > 0.0
+        return np.where(same, p_r, 1.0 - p_r) * np.abs(wi[..., 2]) / np.pi
+
+    def _sample(self, wo, u):
+        p_r = self._reflect_probability(wo)
+        local = cosine_hemisphere(u[..., 1:3])
+        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0) * np.where(u[..., 0] < p_r, 1.0, -1.0)
+        wi = _mirror_z(local, side)
+        pdf = self._pdf(wo, wi)
+        f = self._eval(wo, wi)
+        ok = (pdf > 0.0) & (wo[..., 2] != 0.0) & (wi[..., 2] != 0.0)
+        weight = f * np.abs(wi[..., 2:3]) / np.where(ok, pdf, 1.0)[..., None]
+        both = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
+                                             int(Flags.REFLECTION), int(Flags.TRANSMISSION))
+        return BSDFSample(wi=np.where(ok[..., None], wi, 0.0),
+                          weight=np.where(ok[..., None], weight, 0.0),
+                          pdf=np.where(ok, pdf, 0.0), flags=np.where(ok, both, 0))
+
+
+def _inverse_loss(E_avg):
+    """1 / (pi (1 - E_avg)), 0 where nothing is lost (smooth interface)."""
+    loss = 1.0 - E_avg
+    return np.where(loss > 1e-12, 1.0 / (np.pi * np.where(loss > 1e-12, loss, 1.0)), 0.0)
+
+
+class ConductorMultipleScattering(_CosineLobe):
+    """f_ms = base_color^2 (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) (seed ``000`` §1.2).
+
+    E is the F = 1 directional albedo of the GGX lobe and E_avg its cosine-weighted average
+    (Kulla & Conty 2017); base_color^2 stands for the at-least-two bounces of every path
+    this term represents. Reciprocal and separable; cosine-sampled; one-sided.
+
+    Parameters
+    ----------
+    alpha_x, alpha_y : array_like in [0, 2]
+        GGX roughness of the single-scattering lobe (tables at sqrt(alpha_x alpha_y)).
+    base_color : colour in [0, 1]
+        The metal's base colour (F0); 1 restores all energy of a white metal.
+    """
+
+    flags = Flags.REFLECTION | Flags.DIFFUSE
+
+    def __init__(self, alpha_x, alpha_y=None, base_color=1.0):
+        self.distribution = GGX(alpha_x, alpha_y)
+        self.alpha = table_alpha(self.distribution)
+        self.base_color = _params.color("base_color", base_color, 0.0, 1.0)
+        self._scale = (self.base_color ** 2
+                       * _inverse_loss(tables.get("ggx_conductor_avg")(self.alpha)[..., 0])[
+                           ..., None])
+
+    def __repr__(self) -> str:
+        d = self.distribution
+        return (f"ConductorMultipleScattering(alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
+                f"base_color={self.base_color})")
+
+    def _loss(self, w):
+        """1 - E(mu) (clamped at 0 against interpolation overshoot above E = 1)."""
+        return np.maximum(1.0 - conductor_energy(self.distribution, w)[0], 0.0)
+
+    def _eval(self, wo, wi):
+        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
+        f = self._scale * (self._loss(wo) * self._loss(wi))[..., None]
+        return np.where(up[..., None], f, 0.0)
+
+    def _pdf(self, wo, wi):
+        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
+        return np.where(up, wi[..., 2] / np.pi, 0.0)
+
+    def _albedo_table(self, wo):
+        """base_color^2 (1 - E(mu_o)), exact for the tabulated E."""
+        E, error = conductor_energy(self.distribution, wo)
+        loss = np.where(wo[..., 2] > 0.0, np.maximum(1.0 - E, 0.0), 0.0)
+        return self.base_color ** 2 * loss[..., None], self.base_color ** 2 * error[..., None]
+
+    def _sampling_weight(self, wo):
+        return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._loss(wo), 0.0)
+
+
+class ConductorMS(Sum):
+    """GGX conductor with Kulla–Conty multiple scattering: ``Conductor`` +
+    ``ConductorMultipleScattering`` (seed ``000`` §1.2). Height-correlated masking (the
+    tables' G2).
+
+    Parameters
+    ----------
+    alpha_x, alpha_y : array_like in [0, 2]
+    fresnel : callable or None
+        As for ``Conductor`` (None: F = 1).
+    base_color : colour in [0, 1]
+        Scales the multiple-scattering term by its square.
+    """
+
+    def __init__(self, alpha_x, alpha_y=None, fresnel=None, base_color=1.0):
+        super().__init__(Conductor(alpha_x, alpha_y, fresnel),
+                         ConductorMultipleScattering(alpha_x, alpha_y, base_color))
+
+
+class DielectricMultipleScattering(_CosineLobe):
+    """Kulla–Conty terms of a rough dielectric interface (seed ``000`` §1.2), both sides.
+
+    With E_s(mu) = E_R + E_T the single-scattering energy seen from side s (L: less dense,
+    D: dense), E_avg,s its average, eta = n_D / n_L >= 1 and r_s the share of side s's
+    multiply-scattered energy that is reflected:
+
+        reflection on s:  r_s (1 - E_s(mu_o)) (1 - E_s(mu_i)) / (pi (1 - E_avg,s))
+        L -> D:           (1 - r_L) (1 - E_L(mu_o)) (1 - E_D(mu_i)) / (pi eta^2 (1 - E_avg,D))
+        D -> L:           eta^2 (1 - r_D) (1 - E_D(mu_o)) (1 - E_L(mu_i)) / (pi (1 - E_avg,L))
+
+    Each side then scatters exactly 1 - E_s(mu_o) more energy, and generalized reciprocity
+    f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 holds iff
+    (1 - r_L)(1 - E_avg,L) = eta^2 (1 - r_D)(1 - E_avg,D). We take r_L from the single
+    scattering, r_L = E_R,avg,L / E_avg,L, and r_D from that condition (if it would leave
+    [0, 1], r_D = 0 and r_L follows from the condition instead). ``docs/tables.md``.
+    """
+
+    flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.DIFFUSE
+
+    def __init__(self, eta, alpha_x, alpha_y=None):
+        self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
+        self.distribution = GGX(alpha_x, alpha_y)
+        alpha = table_alpha(self.distribution)
+        ratio = _checked_ratio(self.eta)
+        self._light_above = _sides(self.eta)[0]
+        avg_L = tables.get("ggx_dielectric_outside_avg")(alpha, ratio)
+        avg_D = tables.get("ggx_dielectric_inside_avg")(alpha, ratio)
+        E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
+        t_L = np.where(E_avg_L > 0.0, avg_L[..., 1] / np.where(E_avg_L > 0, E_avg_L, 1.0), 0.0)
+        loss_L, loss_D = 1.0 - E_avg_L, 1.0 - E_avg_D
+        eta2 = ratio * ratio
+        # 1 - r_D from the reciprocity condition; if above 1, cap it and lower 1 - r_L instead
+        t_D = t_L * loss_L / np.where(eta2 * loss_D > 0.0, eta2 * loss_D, 1.0)
+        capped = t_D > 1.0
+        t_L = np.where(capped, eta2 * loss_D / np.where(loss_L > 0.0, loss_L, 1.0), t_L)
+        t_D = np.where(capped, 1.0, t_D)
+        self.transmitted_share = (t_L, t_D)
+        active = ~self.distribution.smooth & (self.eta != 1.0)
+        inv_L, inv_D = _inverse_loss(E_avg_L), _inverse_loss(E_avg_D)
+        self._c = {  # coefficient of each (side of wo, side of wi) pair
+            ("L", "L"): (1.0 - t_L) * inv_L, ("D", "D"): (1.0 - t_D) * inv_D,
+            ("L", "D"): t_L * inv_D / eta2, ("D", "L"): eta2 * t_D * inv_L}
+        self._c = {k: np.where(active, v, 0.0) for k, v in self._c.items()}
+        self._t = (np.where(active, t_L, 0.0), np.where(active, t_D, 0.0))
+
+    def __repr__(self) -> str:
+        d = self.distribution
+        return (f"DielectricMultipleScattering(eta={self.eta}, alpha_x={d.alpha_x}, "
+                f"alpha_y={d.alpha_y})")
+
+    def _on_light(self, w):
+        return (w[..., 2] > 0.0) == self._light_above
+
+    def _loss(self, w):
+        """1 - E_s(mu) on the side of ``w`` (clamped at 0 against interpolation overshoot)."""
+        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w)[0], 0.0)
+
+    def _eval(self, wo, wi):
+        o_light, i_light = self._on_light(wo), self._on_light(wi)
+        c = 0.0
+        for (so, si), coefficient in self._c.items():
+            here = (o_light == (so == "L")) & (i_light == (si == "L"))
+            c = c + np.where(here, coefficient, 0.0)
+        ok = (wo[..., 2] != 0.0) & (wi[..., 2] != 0.0)
+        f = np.where(ok, c * self._loss(wo) * self._loss(wi), 0.0)
+        return np.broadcast_to(f[..., None], f.shape + (3,))
+
+    def _reflect_probability(self, wo):
+        t_L, t_D = self._t
+        return 1.0 - np.where(self._on_light(wo), t_L, t_D)
+
+    def _energy_scale(self, wo, wi):
+        return interface_energy_scale(self.eta, wo, wi)
+
+    def _albedo_table(self, wo):
+        """1 - E_s(mu_o): what this term adds, exactly, for the tabulated E."""
+        E, error = dielectric_energy(self.eta, self.distribution, wo)
+        active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
+        loss = np.where(active, np.maximum(1.0 - E, 0.0), 0.0)
+        return (np.broadcast_to(loss[..., None], loss.shape + (3,)),
+                np.broadcast_to(error[..., None], error.shape + (3,)))
+
+    def _sampling_weight(self, wo):
+        return self._loss(wo)
+
+
+class DielectricMS(Sum):
+    """Rough dielectric with Kulla–Conty multiple scattering: ``Dielectric`` +
+    ``DielectricMultipleScattering`` (seed ``000`` §1.2); height-correlated masking.
+
+    Parameters
+    ----------
+    eta : array_like, max(eta, 1/eta) in [1, 4]
+        n_below / n_above.
+    alpha_x, alpha_y : array_like in [0, 2]
+    """
+
+    def __init__(self, eta, alpha_x, alpha_y=None):
+        super().__init__(Dielectric(eta, alpha_x, alpha_y),
+                         DielectricMultipleScattering(eta, alpha_x, alpha_y))
+        self.eta = self.components[0].eta
+
+
+register(
+    CheckCase("ConductorMS a=0.5 F=1", lambda: ConductorMS(0.5), expected_albedo=lambda wo: 1.0,
+              tags=("fast", "tables")),
+    CheckCase("ConductorMS a=(0.8,0.3) gold-ish", lambda: ConductorMS(
+        0.8, 0.3, base_color=(1.0, 0.71, 0.31)), tags=("fast", "tables")),
+    CheckCase("DielectricMS eta=1.5 a=0.5", lambda: DielectricMS(1.5, 0.5),
+              cos_theta_o=(0.9, 0.3, -0.5), expected_albedo=lambda wo: 1.0,
+              tags=("fast", "tables")),
+    CheckCase("DielectricMS eta=1/1.33 a=0.3", lambda: DielectricMS(1 / 1.33, 0.3),
+              cos_theta_o=(0.7, -0.2, -0.8), expected_albedo=lambda wo: 1.0,
+              tags=("fast", "tables")),
+)

@@ -1,0 +1,173 @@
+"""The table mechanism (declare, bake, store, verify, interpolate) and the node integrator.
+
+Expected values come from closed forms (1 - ln 2, the smooth Fresnel limit, polynomials the
+interpolant must reproduce) and from the independent direction-space cubature of ``eval``
+(``adobe_bsdf.quadrature``), never from the tables themselves.
+"""
+
+import dataclasses
+from functools import partial
+
+import numpy as np
+import pytest
+
+import adobe_bsdf as ab
+from adobe_bsdf import tables
+from adobe_bsdf.tables import Axis, TableError, TableSpec, ggx_energy
+from adobe_bsdf.tables.bake import CHECK_TOL, bake, check
+from tests.tolerances import EXACT
+
+SIZE_LIMIT = 20 * 2**20  # acceptance: all committed tables <= 20 MB
+
+
+def _poly(spec, x, y):
+    """A node function that is a quadratic in the axes' parameters (any interpolant of
+    this module must reproduce it exactly)."""
+    p = np.sqrt(x)
+    return np.stack([1.0 + p - 0.5 * p * p + 0.25 * y], -1), np.full((len(x), 1), 1e-9)
+
+
+SPEC = TableSpec("test_poly", (Axis("mu", 0.0, 1.0, 9, "sqrt", "cubic"),
+                               Axis("alpha", 0.0, 2.0, 5, "linear", "linear")),
+                 ("f",), _poly, "closed form", 1)
+
+
+@pytest.fixture(scope="module")
+def poly_table():
+    return bake(SPEC, workers=1, progress=False)
+
+
+def test_axis_nodes_hit_the_range_ends_and_invert_the_parameterisation():
+    for name in ("linear", "sqrt", "ior", "log-linear"):
+        lo, hi = (1.0, 4.0) if name == "ior" else (0.0, 2.0)
+        axis = Axis("x", lo, hi, 17, name)
+        x = axis.nodes()
+        assert x[0] == lo and x[-1] == hi
+        i, t = axis.locate(x)
+        np.testing.assert_allclose(i + t, np.arange(17), atol=1e-9)
+
+
+def test_interpolation_reproduces_quadratics_in_the_parameters(poly_table):
+    rng = np.random.default_rng(0)
+    x, y = rng.random(1000), 2.0 * rng.random(1000)
+    np.testing.assert_allclose(poly_table(x, y)[..., 0], _poly(None, x, y)[0][..., 0],
+                               atol=1e-13)
+
+
+def test_average_weights_integrate_the_interpolant_exactly():
+    # a constant is reproduced by every interpolant, and 2 int x dx = 1
+    for name in ("sqrt", "log-linear", "linear"):
+        for interpolation in ("linear", "cubic"):
+            axis = Axis("mu", 0.0, 1.0, 33, name, interpolation)
+            assert abs(axis.average_weights().sum() - 1.0) < 1e-12
+    # the linear interpolant of f = x on a linear axis is f itself: 2 int x^2 dx = 2/3
+    axis = Axis("mu", 0.0, 1.0, 9)
+    assert abs(axis.average_weights() @ axis.nodes() - 2.0 / 3.0) < 1e-14
+
+
+def test_out_of_range_coordinates_raise_naming_the_axis(poly_table):
+    with pytest.raises(ValueError, match="alpha"):
+        poly_table(0.5, 2.5)
+    with pytest.raises(ValueError, match="mu"):
+        poly_table(-0.1, 1.0)
+
+
+def test_save_load_round_trip_and_corruption_is_detected(poly_table, tmp_path):
+    path = tmp_path / "test_poly.npz"
+    tables.save(poly_table, path)
+    loaded = tables.load(SPEC, path)
+    assert np.array_equal(loaded.values, poly_table.values)
+    assert loaded.meta["content_hash"] and loaded.meta["max_error"] == 1e-9
+    # a changed value: the content hash no longer matches
+    with np.load(path) as data:
+        content = dict(data)
+    content["values"] = content["values"].copy()
+    content["values"][3, 2, 0] += 1e-12
+    np.savez_compressed(path, **content)
+    with pytest.raises(TableError, match="test_poly.npz.*corrupt"):
+        tables.load(SPEC, path)
+    # truncated file
+    path.write_bytes(b"not a zip file")
+    with pytest.raises(TableError, match="test_poly.npz"):
+        tables.load(SPEC, path)
+    # missing file
+    with pytest.raises(TableError, match="missing"):
+        tables.load(SPEC, tmp_path / "absent.npz")
+
+
+def test_a_file_baked_for_another_declaration_is_rejected(poly_table, tmp_path):
+    path = tmp_path / "test_poly.npz"
+    tables.save(poly_table, path)
+    other = dataclasses.replace(SPEC, axes=(SPEC.axes[0], dataclasses.replace(SPEC.axes[1],
+                                                                               hi=3.0)))
+    with pytest.raises(TableError, match="another declaration"):
+        tables.load(other, path)
+
+
+def test_bake_is_deterministic_and_independent_of_the_worker_count():
+    spec = dataclasses.replace(tables.spec("ggx_dielectric_inside"),
+                               axes=tuple(dataclasses.replace(a, n=4) for a in
+                                          tables.spec("ggx_dielectric_inside").axes))
+    one = bake(spec, workers=1, progress=False)
+    two = bake(spec, workers=2, progress=False)
+    assert np.array_equal(one.values, two.values)
+
+
+# -- the node integrator --------------------------------------------------------------------
+def test_ggx_energy_closed_form_alpha_one_normal_incidence():
+    e = ggx_energy(1.0, 1.0)
+    assert abs(e.reflection - (1.0 - np.log(2.0))) < 1e-12
+
+
+@pytest.mark.parametrize(("mu", "alpha"), [(0.9, 0.05), (0.5, 0.3), (0.1, 0.7), (0.02, 1.0),
+                                           (0.3, 1.8)])
+def test_ggx_energy_conductor_matches_direction_space_cubature(mu, alpha):
+    wo = np.array([np.sqrt(1.0 - mu * mu), 0.0, mu])
+    reference, error = ab.lobes.Conductor(alpha).albedo(wo, tol=1e-9, return_error=True)
+    e = ggx_energy(mu, alpha)
+    # both integrators' error estimates, plus rounding
+    assert abs(e.reflection - reference[0]) < e.error_reflection + error[0] + 1e-10
+    assert e.error_reflection < 1e-6
+
+
+@pytest.mark.parametrize(("mu", "alpha", "eta"), [(0.7, 0.3, 1.5), (0.05, 0.7, 1 / 2.5),
+                                                  (0.5, 1.0, 1.1), (0.2, 0.1, 3.0)])
+def test_ggx_energy_dielectric_reflection_matches_direction_space_cubature(mu, alpha, eta):
+    wo = np.array([np.sqrt(1.0 - mu * mu), 0.0, mu])
+    lobe = ab.lobes.Conductor(alpha, fresnel=partial(ab.fresnel.dielectric, eta=eta))
+    reference, error = lobe.albedo(wo, tol=1e-9, return_error=True)
+    e = ggx_energy(mu, alpha, eta)
+    assert abs(e.reflection - reference[0]) < e.error_reflection + error[0] + 1e-10
+
+
+def test_ggx_energy_is_continuous_to_the_grazing_and_index_matched_limits():
+    # mu -> 0 and eta -> 1 approach the values computed exactly at mu = 0 and eta = 1
+    e0, e1 = ggx_energy(0.0, 0.4, 1.3), ggx_energy(1e-7, 0.4, 1.3)
+    assert abs(e0.reflection + e0.transmission - e1.reflection - e1.transmission) < 1e-5
+    e0, e1 = ggx_energy(0.6, 0.4, 1.0), ggx_energy(0.6, 0.4, 1.0 + 1e-9)
+    assert e0.reflection == 0.0 and abs(e1.transmission - e0.transmission) < 1e-8
+
+
+# -- the shipped tables ---------------------------------------------------------------------
+def test_every_declared_table_is_shipped_verified_and_small():
+    total = 0
+    for name in tables.SPECS:
+        table = tables.get(name)
+        assert table.values.shape == table.spec.shape
+        assert np.all(np.isfinite(table.values))
+        total += tables.path(name).stat().st_size
+    assert total <= SIZE_LIMIT
+
+
+@pytest.mark.parametrize("name", list(tables.SPECS))
+def test_bake_check_rebakes_random_nodes_at_a_higher_order(name):
+    spec = tables.spec(name)
+    parent = tables.get(spec.depends[0]) if spec.depends else None
+    result = check(spec, tables.get(name), n_nodes=6, seed=7, workers=1, parent=parent)
+    assert result.max_difference <= CHECK_TOL, result
+
+
+def test_smooth_nodes_are_the_exact_fresnel_limit():
+    mu = np.linspace(0.0, 1.0, 11)
+    R = tables.get("ggx_dielectric_outside")(mu, 0.0, 1.5)[..., 0]
+    np.testing.assert_allclose(R, ab.fresnel.dielectric(mu, 1.5), atol=EXACT)
