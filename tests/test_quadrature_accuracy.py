@@ -8,8 +8,9 @@ reflection on a cone about wo. A cell straddling such an edge fooled the Genz–
 error it reports.
 
 References: nested ``scipy.integrate.quad`` over (theta_i, phi_i) of the same ``eval``, with the
-refraction horizon (and, for TIR, the cone crossings in phi) as breakpoints, agreeing to
-1e-13 with a piecewise Gauss–Legendre integration over microfacet normals (E_R + E_T).
+refraction horizon and the cone edges as breakpoints (without them quad itself errs by up to
+4e-9 at the TIR edge and 6e-12 at the cone edge); the isotropic ones agree to 1e-13 with a
+piecewise Gauss–Legendre integration over microfacet normals (E_R + E_T).
 """
 
 import numpy as np
@@ -21,11 +22,11 @@ import adobe_bsdf as ab
 REFERENCES = [
     ((0.7, 0.3, 0.3, 1.5, 0.0), 0.9710631164694761),
     ((0.1, 0.5, 0.5, 1.5, 0.4), 0.8525545268837154),
-    ((0.3, 0.1, 0.1, 1 / 1.5, 0.0), 0.9291959182490407),
+    ((0.3, 0.1, 0.1, 1 / 1.5, 0.0), 0.9291959182490562),
     ((0.9, 0.3, 0.3, 1 / 1.5, 0.4), 0.879637562640512),
     ((0.5, 1.0, 1.0, 1.1, 0.0), 0.7557091567488219),
     ((0.8, 0.2, 0.2, 1 / 1.1, 0.0), 0.9731843133500266),
-    ((-0.4, 0.1, 0.5, 1.5, 1.0), 0.7561885949783134),
+    ((0.7, 0.5, 0.1, 1.5, 1.0), 0.9639453461489703),
 ]
 #: uncertainty of the references
 REFERENCE = 1e-12
@@ -50,8 +51,8 @@ def test_batch_of_interfaces_matches_single_directions():
     """Each batch element has its own map of the shared grid."""
     eta = np.array([1.5, 1 / 1.5, 1.01, 2.4])
     wo = np.stack([direction(c, 0.3 * i) for i, c in enumerate((0.7, 0.3, -0.8, -0.2))])
-    value, error = ab.lobes.Dielectric(eta, 0.3).albedo(wo, tol=1e-9, return_error=True)
+    value, error = ab.lobes.Dielectric(eta, 0.3).albedo(wo, tol=1e-8, return_error=True)
     for i in range(4):
-        single, single_error = ab.lobes.Dielectric(eta[i], 0.3).albedo(wo[i], tol=1e-9,
+        single, single_error = ab.lobes.Dielectric(eta[i], 0.3).albedo(wo[i], tol=1e-8,
                                                                        return_error=True)
         np.testing.assert_allclose(value[i], single, atol=error[i, 0] + single_error[0])
