@@ -39,20 +39,25 @@ def direction(cos_theta, phi=0.4):
     return np.array([s * np.cos(phi), s * np.sin(phi), cos_theta])
 
 
+def quadrature_albedo(lobe, directions, tol=1e-5):
+    """Direction-space cubature of ``eval``, one direction per call (a batch shares one grid,
+    which is slower for directions with different edges); tol far below the furnace bound."""
+    return np.stack([lobe.albedo(w, tol=tol) for w in directions])
+
+
 # -- acceptance 1: white furnace -------------------------------------------------------------
 @pytest.mark.parametrize(("roughness", "ior"), list(itertools.product(ROUGHNESS, IORS)))
 def test_asm_diffuse_plus_specular_white_furnace(roughness, ior):
     lobe = asm_dielectric_base(1.0, roughness, ior)
     wo = np.stack([direction(c) for c in COSINES])
-    albedo = lobe.albedo(wo, tol=1e-6)
-    np.testing.assert_allclose(albedo, 1.0, atol=FURNACE_TABLE)
+    np.testing.assert_allclose(quadrature_albedo(lobe, wo), 1.0, atol=FURNACE_TABLE)
 
 
 @pytest.mark.parametrize("roughness", [0.05, 0.1, 0.3, 0.5, 0.7, 1.0])
 def test_conductor_kulla_conty_white_furnace(roughness):
     lobe = ConductorMS(roughness**2)
     wo = np.stack([direction(c) for c in COSINES])
-    np.testing.assert_allclose(lobe.albedo(wo, tol=1e-6), 1.0, atol=FURNACE_TABLE)
+    np.testing.assert_allclose(quadrature_albedo(lobe, wo), 1.0, atol=FURNACE_TABLE)
 
 
 @pytest.mark.parametrize(("roughness", "eta"), list(itertools.product([0.1, 0.3, 0.7, 1.0],
@@ -60,7 +65,7 @@ def test_conductor_kulla_conty_white_furnace(roughness):
 def test_dielectric_kulla_conty_white_furnace_both_sides(roughness, eta):
     lobe = DielectricMS(eta, roughness**2)
     wo = np.stack([s * direction(c) for c in (1.0, 0.5, 0.1) for s in (1, -1)])
-    np.testing.assert_allclose(lobe.albedo(wo, tol=1e-6), 1.0, atol=FURNACE_TABLE_DIELECTRIC)
+    np.testing.assert_allclose(quadrature_albedo(lobe, wo), 1.0, atol=FURNACE_TABLE_DIELECTRIC)
 
 
 def test_coloured_metal_multiple_scattering_is_scaled_by_base_colour_squared():
@@ -122,7 +127,7 @@ def test_asm_diffuse_is_lambert_where_the_specular_vanishes():
 def test_table_albedo_matches_quadrature(make):
     lobe = make()
     wo = np.stack([s * direction(c) for c in (0.9, 0.4, 0.08) for s in (1, -1)])
-    np.testing.assert_allclose(lobe.albedo(wo, "table"), lobe.albedo(wo, tol=1e-6),
+    np.testing.assert_allclose(lobe.albedo(wo, "table"), quadrature_albedo(lobe, wo),
                                atol=FURNACE_TABLE)
 
 

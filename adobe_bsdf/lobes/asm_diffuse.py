@@ -7,11 +7,11 @@ from functools import partial
 import numpy as np
 
 from adobe_bsdf import _params, fresnel, tables
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.lobes.conductor import Conductor
+from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.registry import CheckCase, register
-from adobe_bsdf.sampling import cosine_hemisphere
 
 __all__ = ["ASMSpecular", "ASMDiffuse", "asm_dielectric_base"]
 
@@ -57,7 +57,7 @@ class ASMSpecular(Conductor):
                 np.broadcast_to(error[..., None], error.shape + (3,)))
 
 
-class ASMDiffuse(Lobe):
+class ASMDiffuse(Separable):
     """Energy-conserving diffuse of seed ``000`` §1.1 eq. 1 (Ashikhmin, Premože & Shirley 2000):
 
         D(wi, wo) = rho / pi (1 - L(wi)) (1 - L(wo)) / (1 - T)
@@ -90,34 +90,11 @@ class ASMDiffuse(Lobe):
         return (f"ASMDiffuse(albedo={self.reflectance}, roughness={self.roughness}, "
                 f"ior={self.ior})")
 
-    def _one_minus_L(self, w):
+    def _X(self, w):
         return 1.0 - _lobe_integral(self.roughness, self.ior, w)[0]
 
-    def _eval(self, wo, wi):
-        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        f = self._scale * (self._one_minus_L(wo) * self._one_minus_L(wi))[..., None]
-        return np.where(up[..., None], f, 0.0)
-
-    def _pdf(self, wo, wi):
-        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        return np.where(up, wi[..., 2] / np.pi, 0.0)
-
-    def _sample(self, wo, u):
-        wi = cosine_hemisphere(u[..., 1:3])
-        wi = np.broadcast_to(wi, np.broadcast_shapes(wi.shape, wo.shape))
-        pdf = self._pdf(wo, wi)
-        ok = pdf > 0.0
-        f = self._eval(wo, wi)
-        weight = f * np.pi * self._ok_div(ok)[..., None]
-        ok = np.broadcast_to(ok, weight.shape[:-1])
-        return BSDFSample(wi=np.where(ok[..., None], wi, 0.0),
-                          weight=np.where(ok[..., None], weight, 0.0),
-                          pdf=np.where(ok, pdf, 0.0),
-                          flags=np.where(ok, int(self.flags), int(Flags.NONE)))
-
-    @staticmethod
-    def _ok_div(ok):
-        return np.where(ok, 1.0, 0.0)
+    def _coefficient(self, wo, wi):
+        return self._scale
 
     def _albedo_table(self, wo):
         """rho (1 - L(mu_o)), exact for the tabulated L."""
@@ -127,8 +104,7 @@ class ASMDiffuse(Lobe):
                 self.reflectance * error[..., None])
 
     def _sampling_weight(self, wo):
-        return luminance(self.reflectance) * np.where(wo[..., 2] > 0.0, self._one_minus_L(wo),
-                                                      0.0)
+        return luminance(self.reflectance) * np.where(wo[..., 2] > 0.0, self._X(wo), 0.0)
 
 
 def asm_dielectric_base(albedo, roughness, ior) -> Sum:

@@ -24,13 +24,13 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, tables
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.lobes.conductor import Conductor
-from adobe_bsdf.lobes.dielectric import Dielectric, _mirror_z, interface_energy_scale
+from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
+from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
-from adobe_bsdf.sampling import cosine_hemisphere
 
 __all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScattering",
            "DielectricMS", "conductor_energy", "dielectric_energy", "table_alpha"]
@@ -82,41 +82,13 @@ def dielectric_energy(eta, distribution: GGX, wo):
     return np.where(exact, 1.0, total), np.where(exact, 0.0, error)
 
 
-class _CosineLobe(Lobe):
-    """Shared sampling of separable terms: cosine-weighted on the side chosen by
-    ``_branch``; ``eval`` and the branch probability come from the subclass."""
-
-    def _reflect_probability(self, wo):
-        return np.ones(wo.shape[:-1])
-
-    def _pdf(self, wo, wi):
-        p_r = self._reflect_probability(wo)
-        same = wo[..., 2] * wi[..., 2] > 0.0
-        return np.where(same, p_r, 1.0 - p_r) * np.abs(wi[..., 2]) / np.pi
-
-    def _sample(self, wo, u):
-        p_r = self._reflect_probability(wo)
-        local = cosine_hemisphere(u[..., 1:3])
-        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0) * np.where(u[..., 0] < p_r, 1.0, -1.0)
-        wi = _mirror_z(local, side)
-        pdf = self._pdf(wo, wi)
-        f = self._eval(wo, wi)
-        ok = (pdf > 0.0) & (wo[..., 2] != 0.0) & (wi[..., 2] != 0.0)
-        weight = f * np.abs(wi[..., 2:3]) / np.where(ok, pdf, 1.0)[..., None]
-        both = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
-                                             int(Flags.REFLECTION), int(Flags.TRANSMISSION))
-        return BSDFSample(wi=np.where(ok[..., None], wi, 0.0),
-                          weight=np.where(ok[..., None], weight, 0.0),
-                          pdf=np.where(ok, pdf, 0.0), flags=np.where(ok, both, 0))
-
-
 def _inverse_loss(E_avg):
     """1 / (pi (1 - E_avg)), 0 where nothing is lost (smooth interface)."""
     loss = 1.0 - E_avg
     return np.where(loss > 1e-12, 1.0 / (np.pi * np.where(loss > 1e-12, loss, 1.0)), 0.0)
 
 
-class ConductorMultipleScattering(_CosineLobe):
+class ConductorMultipleScattering(Separable):
     """f_ms = base_color^2 (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) (seed ``000`` §1.2).
 
     E is the F = 1 directional albedo of the GGX lobe and E_avg its cosine-weighted average
@@ -146,18 +118,12 @@ class ConductorMultipleScattering(_CosineLobe):
         return (f"ConductorMultipleScattering(alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
                 f"base_color={self.base_color})")
 
-    def _loss(self, w):
+    def _X(self, w):
         """1 - E(mu) (clamped at 0 against interpolation overshoot above E = 1)."""
         return np.maximum(1.0 - conductor_energy(self.distribution, w)[0], 0.0)
 
-    def _eval(self, wo, wi):
-        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        f = self._scale * (self._loss(wo) * self._loss(wi))[..., None]
-        return np.where(up[..., None], f, 0.0)
-
-    def _pdf(self, wo, wi):
-        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        return np.where(up, wi[..., 2] / np.pi, 0.0)
+    def _coefficient(self, wo, wi):
+        return self._scale
 
     def _albedo_table(self, wo):
         """base_color^2 (1 - E(mu_o)), exact for the tabulated E."""
@@ -166,7 +132,7 @@ class ConductorMultipleScattering(_CosineLobe):
         return self.base_color ** 2 * loss[..., None], self.base_color ** 2 * error[..., None]
 
     def _sampling_weight(self, wo):
-        return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._loss(wo), 0.0)
+        return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._X(wo), 0.0)
 
 
 class ConductorMS(Sum):
@@ -188,7 +154,7 @@ class ConductorMS(Sum):
                          ConductorMultipleScattering(alpha_x, alpha_y, base_color))
 
 
-class DielectricMultipleScattering(_CosineLobe):
+class DielectricMultipleScattering(Separable):
     """Kulla–Conty terms of a rough dielectric interface (seed ``000`` §1.2), both sides.
 
     With E_s(mu) = E_R + E_T the single-scattering energy seen from side s (L: less dense,
@@ -207,6 +173,7 @@ class DielectricMultipleScattering(_CosineLobe):
     """
 
     flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.DIFFUSE
+    two_sided = True
 
     def __init__(self, eta, alpha_x, alpha_y=None):
         self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
@@ -217,11 +184,14 @@ class DielectricMultipleScattering(_CosineLobe):
         avg_L = tables.get("ggx_dielectric_outside_avg")(alpha, ratio)
         avg_D = tables.get("ggx_dielectric_inside_avg")(alpha, ratio)
         E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
-        t_L = np.where(E_avg_L > 0.0, avg_L[..., 1] / np.where(E_avg_L > 0, E_avg_L, 1.0), 0.0)
+        # the split is a free choice in [0, 1] (clipped against interpolation overshoot of a
+        # near-zero E_R near eta = 1; conservation and reciprocity hold for any value)
+        t_L = np.clip(np.where(E_avg_L > 0.0, avg_L[..., 1] / np.where(E_avg_L > 0, E_avg_L, 1.0),
+                               0.0), 0.0, 1.0)
         loss_L, loss_D = 1.0 - E_avg_L, 1.0 - E_avg_D
         eta2 = ratio * ratio
         # 1 - r_D from the reciprocity condition; if above 1, cap it and lower 1 - r_L instead
-        t_D = t_L * loss_L / np.where(eta2 * loss_D > 0.0, eta2 * loss_D, 1.0)
+        t_D = np.maximum(t_L * loss_L / np.where(eta2 * loss_D > 0.0, eta2 * loss_D, 1.0), 0.0)
         capped = t_D > 1.0
         t_L = np.where(capped, eta2 * loss_D / np.where(loss_L > 0.0, loss_L, 1.0), t_L)
         t_D = np.where(capped, 1.0, t_D)
@@ -242,19 +212,17 @@ class DielectricMultipleScattering(_CosineLobe):
     def _on_light(self, w):
         return (w[..., 2] > 0.0) == self._light_above
 
-    def _loss(self, w):
+    def _X(self, w):
         """1 - E_s(mu) on the side of ``w`` (clamped at 0 against interpolation overshoot)."""
         return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w)[0], 0.0)
 
-    def _eval(self, wo, wi):
+    def _coefficient(self, wo, wi):
         o_light, i_light = self._on_light(wo), self._on_light(wi)
         c = 0.0
         for (so, si), coefficient in self._c.items():
             here = (o_light == (so == "L")) & (i_light == (si == "L"))
             c = c + np.where(here, coefficient, 0.0)
-        ok = (wo[..., 2] != 0.0) & (wi[..., 2] != 0.0)
-        f = np.where(ok, c * self._loss(wo) * self._loss(wi), 0.0)
-        return np.broadcast_to(f[..., None], f.shape + (3,))
+        return np.asarray(c)[..., None]
 
     def _reflect_probability(self, wo):
         t_L, t_D = self._t
@@ -272,7 +240,7 @@ class DielectricMultipleScattering(_CosineLobe):
                 np.broadcast_to(error[..., None], error.shape + (3,)))
 
     def _sampling_weight(self, wo):
-        return self._loss(wo)
+        return self._X(wo)
 
 
 class DielectricMS(Sum):

@@ -85,9 +85,12 @@ def _average(spec, *coords, parent: Table):
 _MU = Axis("mu", 0.0, 1.0, 48, "log-linear", "cubic")
 _ALPHA = Axis("alpha", 0.0, ALPHA_MAX, 48, "log-linear", "cubic")
 _ALPHA_128 = Axis("alpha", 0.0, ALPHA_MAX, 128, "log-linear", "cubic")
-_ETA = Axis("eta", 1.0, ETA_MAX, 12, "ior", "cubic")
+# near eta = 1 the energies have structure at eta - 1 ~ mu^2, alpha^2 (the Fresnel knee and
+# the critical angle, ~sqrt(2 (eta - 1)), sweep the lobe): nodes log-spaced in eta - 1 down
+# to 1e-4
+_ETA = Axis("eta", 1.0, ETA_MAX, 24, "log-linear", "cubic", log_scale=0.3)
 _ROUGHNESS = Axis("roughness", 0.0, 1.0, 48, "log-linear", "cubic")
-_IOR = Axis("ior", 1.0, ETA_MAX, 12, "ior", "cubic")
+_IOR = Axis("ior", 1.0, ETA_MAX, 24, "log-linear", "cubic", log_scale=0.3)
 
 
 def _spec(name, axes, outputs, compute, description, depends=()):

@@ -72,6 +72,7 @@ def _rule(order: int):
 def _g(mu_o, s_o, alpha, wz):
     """Height-correlated G2(wo, w) / mu_o for wo = (s_o, 0, mu_o), |w_z| = wz (finite at
     mu_o = 0)."""
+    wz = np.minimum(wz, 1.0)  # rounding (and the masked-out points of invalid refraction)
     S_o = np.sqrt(mu_o * mu_o + alpha * alpha * s_o * s_o)
     S_i = np.sqrt(wz * wz + alpha * alpha * (1.0 - wz * wz))
     den = wz * S_o + mu_o * S_i

@@ -44,20 +44,20 @@ def _ior_from(p):
 LOGLIN_C, LOGLIN_X0 = 0.1, 1e-4
 
 
-def _loglin_to(x):
-    return x + LOGLIN_C * np.log(x + LOGLIN_X0)
+def _loglin_to(x, c=LOGLIN_C):
+    return x + c * np.log(x + LOGLIN_X0)
 
 
-def _loglin_from(p):
+def _loglin_from(p, c=LOGLIN_C):
     # y + C ln y = p + X0 with y = x + X0, solved by the Lambert W function
-    q = (np.asarray(p, dtype=np.float64) + LOGLIN_X0) / LOGLIN_C
-    y = LOGLIN_C * lambertw(np.exp(q) / LOGLIN_C).real
+    q = (np.asarray(p, dtype=np.float64) + LOGLIN_X0) / c
+    y = c * lambertw(np.exp(q) / c).real
     return y - LOGLIN_X0
 
 
-def _loglin_dfrom(p):
-    x = _loglin_from(p)
-    return 1.0 / (1.0 + LOGLIN_C / (x + LOGLIN_X0))
+def _loglin_dfrom(p, c=LOGLIN_C):
+    x = _loglin_from(p, c)
+    return 1.0 / (1.0 + c / (x + LOGLIN_X0))
 
 
 #: name -> (physical -> parameter, parameter -> physical, d physical / d parameter); nodes
@@ -84,6 +84,9 @@ class Axis:
         Number of nodes, uniform in the parameter.
     parameterisation : str
         Key of ``PARAMETERISATIONS``: ``"linear"``, ``"sqrt"``, ``"ior"`` or ``"log-linear"``.
+    log_scale : float
+        C of the "log-linear" parameterisation p = (x - lo) + C ln(x - lo + 1e-4): the larger,
+        the more nodes go close to ``lo``.
     interpolation : {"linear", "cubic"}
         Along this axis: linear, or Catmull–Rom cubic convolution (Keys 1981, a = -1/2) with
         quadratic extrapolation for the ghost nodes beyond the ends.
@@ -95,9 +98,14 @@ class Axis:
     n: int
     parameterisation: str = "linear"
     interpolation: str = "linear"
+    log_scale: float = LOGLIN_C
 
     def _maps(self):
-        return PARAMETERISATIONS[self.parameterisation]
+        if self.parameterisation != "log-linear":
+            return PARAMETERISATIONS[self.parameterisation]
+        lo, c = self.lo, self.log_scale
+        return (lambda x: _loglin_to(x - lo, c), lambda p: _loglin_from(p, c) + lo,
+                lambda p: _loglin_dfrom(p, c))
 
     def nodes(self) -> np.ndarray:
         """Physical node values ``(n,)``; the ends are exactly ``lo`` and ``hi``."""
@@ -151,8 +159,11 @@ class Axis:
         return out
 
     def describe(self) -> dict:
-        return {"name": self.name, "lo": self.lo, "hi": self.hi, "n": self.n,
-                "parameterisation": self.parameterisation, "interpolation": self.interpolation}
+        out = {"name": self.name, "lo": self.lo, "hi": self.hi, "n": self.n,
+               "parameterisation": self.parameterisation, "interpolation": self.interpolation}
+        if self.parameterisation == "log-linear" and self.log_scale != LOGLIN_C:
+            out["log_scale"] = self.log_scale
+        return out
 
 
 @dataclass(frozen=True)

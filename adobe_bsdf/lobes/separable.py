@@ -1,0 +1,64 @@
+"""Separable lobes f(wo, wi) = c X(wo) X(wi), cosine-sampled: the form shared by the ASM
+energy-conserving diffuse and the Kulla–Conty multiple-scattering terms."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.lobes.dielectric import _mirror_z
+from adobe_bsdf.sampling import cosine_hemisphere
+
+__all__ = ["Separable"]
+
+
+class Separable(Lobe):
+    """f(wo, wi) = c(wo, wi) X(wo) X(wi), with c constant on each pair of sides.
+
+    Subclasses give ``_X(w) -> (...)`` and ``_coefficient(wo, wi) -> (..., 3)``; a two-sided
+    lobe (``two_sided = True``) also gives ``_reflect_probability(wo)``, the chance that
+    ``sample`` stays on the side of ``wo``. ``wi`` is cosine-distributed on the chosen side,
+    so pdf = P(side) |cos theta_i| / pi exactly. A one-sided lobe is 0 unless both
+    directions are above the surface.
+    """
+
+    two_sided = False
+
+    def _X(self, w):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _coefficient(self, wo, wi):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _reflect_probability(self, wo):
+        return np.ones(wo.shape[:-1])
+
+    def _support(self, wo, wi):
+        if self.two_sided:
+            return (wo[..., 2] != 0.0) & (wi[..., 2] != 0.0)
+        return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
+
+    def _eval(self, wo, wi):
+        f = self._coefficient(wo, wi) * (self._X(wo) * self._X(wi))[..., None]
+        return np.where(self._support(wo, wi)[..., None], f, 0.0)
+
+    def _pdf(self, wo, wi):
+        p_r = self._reflect_probability(wo)
+        p = np.where(wo[..., 2] * wi[..., 2] > 0.0, p_r, 1.0 - p_r)
+        return np.where(self._support(wo, wi), p * np.abs(wi[..., 2]) / np.pi, 0.0)
+
+    def _sample(self, wo, u):
+        local = cosine_hemisphere(u[..., 1:3])
+        stay = u[..., 0] < self._reflect_probability(wo)
+        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0) * np.where(stay, 1.0, -1.0)
+        wi = _mirror_z(local, side)
+        pdf = self._pdf(wo, wi)
+        ok = pdf > 0.0
+        weight = self._eval(wo, wi) * (np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))[..., None]
+        ok = np.broadcast_to(ok, weight.shape[:-1])
+        flags = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
+                                              int(Flags.REFLECTION), int(Flags.TRANSMISSION))
+        return BSDFSample(wi=np.where(ok[..., None], wi, 0.0),
+                          weight=np.where(ok[..., None], weight, 0.0),
+                          pdf=np.where(ok, pdf, 0.0),
+                          flags=np.where(ok, flags, int(Flags.NONE)))
