@@ -8,7 +8,7 @@ finds them; an editable install reads the folder directly.
 from __future__ import annotations
 
 import functools
-import importlib.resources
+import importlib.util
 from pathlib import Path
 
 from adobe_bsdf.tables.catalog import SPECS
@@ -19,10 +19,10 @@ __all__ = ["data_dir", "get", "path"]
 
 def data_dir() -> Path:
     """Folder of the shipped tables."""
-    try:
-        return Path(str(importlib.resources.files("adobe_bsdf.tables.data")))
-    except ModuleNotFoundError:  # editable install: the repository's tables/ folder
-        return Path(__file__).resolve().parents[2] / "tables"
+    spec = importlib.util.find_spec("adobe_bsdf.tables.data")
+    if spec is not None and spec.submodule_search_locations:
+        return Path(list(spec.submodule_search_locations)[0])
+    return Path(__file__).resolve().parents[2] / "tables"  # editable install: the repository
 
 
 def path(name: str) -> Path:
