@@ -55,8 +55,11 @@ def interpolation_rows(n, rng):
         error = tables.get(name)(*coords) - _reference(name, coords)
         region = (coords[0] >= 0.01) & (coords[1] >= (0.05 if name == "asm_diffuse_L"
                                                       else 0.0025))
-        for k, channel in enumerate(spec.outputs):
-            e = np.abs(error[:, k])
+        channels = [(c, error[:, k]) for k, c in enumerate(spec.outputs)]
+        if len(spec.outputs) == 2:
+            channels.append(("E_R + E_T", error.sum(-1)))
+        for channel, signed in channels:
+            e = np.abs(signed)
             rows.append((name, channel, e.max(), np.sqrt(np.mean(e**2)), e[region].max(),
                          np.sqrt(np.mean(e[region] ** 2))))
     return rows

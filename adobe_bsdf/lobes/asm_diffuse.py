@@ -18,7 +18,7 @@ __all__ = ["ASMSpecular", "ASMDiffuse", "asm_dielectric_base"]
 
 def _asm_parameters(roughness, ior):
     roughness = _params.real("roughness", roughness, 0.0, 1.0)
-    ior = _params.real("ior", ior, 1.0, tables.ETA_MAX)
+    ior = _params.real("ior", ior, 1.0, tables.IOR_MAX)
     return roughness, ior
 
 

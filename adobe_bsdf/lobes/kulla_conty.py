@@ -249,7 +249,7 @@ class DielectricMS(Sum):
 
     Parameters
     ----------
-    eta : array_like, max(eta, 1/eta) in [1, 4]
+    eta : array_like, max(eta, 1/eta) in [1, 3]
         n_below / n_above.
     alpha_x, alpha_y : array_like in [0, 2]
     """

@@ -13,10 +13,10 @@ Command line: ``python -m adobe_bsdf bake [NAMES...] [--check]``. ``docs/tables.
 tables, their sizes, bake times and measured interpolation errors.
 """
 
-from adobe_bsdf.tables.catalog import ALPHA_MAX, ETA_MAX, SPECS
+from adobe_bsdf.tables.catalog import ALPHA_MAX, ETA_MAX, IOR_MAX, SPECS
 from adobe_bsdf.tables.energy import Energy, ggx_energy
 from adobe_bsdf.tables.store import data_dir, get, path, spec
 from adobe_bsdf.tables.table import Axis, Table, TableError, TableSpec, load, save
 
-__all__ = ["ALPHA_MAX", "ETA_MAX", "SPECS", "Energy", "ggx_energy", "data_dir", "get", "path",
-           "spec", "Axis", "Table", "TableError", "TableSpec", "load", "save"]
+__all__ = ["ALPHA_MAX", "ETA_MAX", "IOR_MAX", "SPECS", "Energy", "ggx_energy", "data_dir", "get",
+           "path", "spec", "Axis", "Table", "TableError", "TableSpec", "load", "save"]

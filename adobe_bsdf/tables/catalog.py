@@ -25,10 +25,13 @@ from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.tables.energy import ggx_energy
 from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
-__all__ = ["SPECS", "ETA_MAX", "ALPHA_MAX"]
+__all__ = ["SPECS", "ETA_MAX", "IOR_MAX", "ALPHA_MAX"]
 
-#: largest relative index covered by the dielectric tables (and its inverse from inside)
-ETA_MAX = 4.0
+#: largest index ratio n_dense / n_light of the dielectric tables (the ior range of ASM and
+#: OpenPBR, [1, 3]); from the dense side the relative index goes down to 1 / ETA_MAX
+ETA_MAX = 3.0
+#: largest ior of the ASM diffuse tables
+IOR_MAX = 4.0
 #: largest GGX alpha covered (ASM anisotropy reaches alpha_x = 2)
 ALPHA_MAX = 2.0
 
@@ -87,10 +90,11 @@ _ALPHA = Axis("alpha", 0.0, ALPHA_MAX, 48, "log-linear", "cubic")
 _ALPHA_128 = Axis("alpha", 0.0, ALPHA_MAX, 128, "log-linear", "cubic")
 # near eta = 1 the energies have structure at eta - 1 ~ mu^2, alpha^2 (the Fresnel knee and
 # the critical angle, ~sqrt(2 (eta - 1)), sweep the lobe): nodes log-spaced in eta - 1 down
-# to 1e-4
-_ETA = Axis("eta", 1.0, ETA_MAX, 24, "log-linear", "cubic", log_scale=0.3)
+# to 1e-4 (ASM's ior axis: 24 nodes to 4; the dielectric's: 32 nodes to 3, denser at
+# eta - 1 ~ 0.05..0.3 where the energy seen from inside varies fastest)
+_ETA = Axis("eta", 1.0, ETA_MAX, 32, "log-linear", "cubic", log_scale=0.2)
 _ROUGHNESS = Axis("roughness", 0.0, 1.0, 48, "log-linear", "cubic")
-_IOR = Axis("ior", 1.0, ETA_MAX, 24, "log-linear", "cubic", log_scale=0.3)
+_IOR = Axis("ior", 1.0, IOR_MAX, 24, "log-linear", "cubic", log_scale=0.3)
 
 
 def _spec(name, axes, outputs, compute, description, depends=()):
