@@ -260,15 +260,19 @@ class DielectricMS(Sum):
         self.eta = self.components[0].eta
 
 
+#: white-furnace bounds of the table-based terms: the tables' interpolation error
+#: (acceptance 1e-3; 2e-3 for the dielectric's R + T; measured in docs/tables.md)
+FURNACE_TOL, FURNACE_TOL_DIELECTRIC = 1e-3, 2e-3
+
 register(
     CheckCase("ConductorMS a=0.5 F=1", lambda: ConductorMS(0.5), expected_albedo=lambda wo: 1.0,
-              tags=("fast", "tables")),
+              furnace_tol=FURNACE_TOL, tags=("fast", "tables")),
     CheckCase("ConductorMS a=(0.8,0.3) gold-ish", lambda: ConductorMS(
         0.8, 0.3, base_color=(1.0, 0.71, 0.31)), tags=("fast", "tables")),
     CheckCase("DielectricMS eta=1.5 a=0.5", lambda: DielectricMS(1.5, 0.5),
               cos_theta_o=(0.9, 0.3, -0.5), expected_albedo=lambda wo: 1.0,
-              tags=("fast", "tables")),
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=("fast", "tables")),
     CheckCase("DielectricMS eta=1/1.33 a=0.3", lambda: DielectricMS(1 / 1.33, 0.3),
               cos_theta_o=(0.7, -0.2, -0.8), expected_albedo=lambda wo: 1.0,
-              tags=("fast", "tables")),
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=("fast", "tables")),
 )
