@@ -172,7 +172,7 @@ EXTREMES = [
     lambda: asm_dielectric_base(1.0, 0.5, 1.0), lambda: asm_dielectric_base(1.0, 0.5, 1 + 1e-9),
     lambda: DielectricMS(1.0, 0.5), lambda: DielectricMS(1 + 1e-9, 0.5),
     lambda: DielectricMS(1 / 3, 2.0), lambda: DielectricMS(1.5, 0.0),
-    lambda: DielectricMS(4.0, 1e-9),
+    lambda: DielectricMS(3.0, 1e-9),
 ]
 
 
