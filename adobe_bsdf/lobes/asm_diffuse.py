@@ -22,13 +22,15 @@ def _asm_parameters(roughness, ior):
     return roughness, ior
 
 
-def _lobe_integral(roughness, ior, w):
-    """L(mu) of seed 000 eq. 1 (0 below the surface) and its node error."""
+def _lobe_integral(roughness, ior, w, with_error=False):
+    """L(mu) of seed 000 eq. 1 (0 below the surface); with ``with_error`` also its node error."""
     table = tables.get("asm_diffuse_L")
     mu = np.maximum(w[..., 2], 0.0)
     up = w[..., 2] > 0.0
-    return (np.where(up, table(mu, roughness, ior)[..., 0], 0.0),
-            np.where(up, table.error(mu, roughness, ior)[..., 0], 0.0))
+    L = np.where(up, table(mu, roughness, ior)[..., 0], 0.0)
+    if not with_error:
+        return L
+    return L, np.where(up, table.error(mu, roughness, ior)[..., 0], 0.0)
 
 
 class ASMSpecular(Conductor):
@@ -52,7 +54,7 @@ class ASMSpecular(Conductor):
         return f"ASMSpecular(roughness={self.roughness}, ior={self.ior})"
 
     def _albedo_table(self, wo):
-        L, error = _lobe_integral(self.roughness, self.ior, wo)
+        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error=True)
         return (np.broadcast_to(L[..., None], L.shape + (3,)),
                 np.broadcast_to(error[..., None], error.shape + (3,)))
 
@@ -91,14 +93,14 @@ class ASMDiffuse(Separable):
                 f"ior={self.ior})")
 
     def _X(self, w):
-        return 1.0 - _lobe_integral(self.roughness, self.ior, w)[0]
+        return 1.0 - _lobe_integral(self.roughness, self.ior, w)
 
     def _coefficient(self, wo, wi):
         return self._scale
 
     def _albedo_table(self, wo):
         """rho (1 - L(mu_o)), exact for the tabulated L."""
-        L, error = _lobe_integral(self.roughness, self.ior, wo)
+        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error=True)
         up = (wo[..., 2] > 0.0)[..., None]
         return (np.where(up, self.reflectance * (1.0 - L)[..., None], 0.0),
                 self.reflectance * error[..., None])

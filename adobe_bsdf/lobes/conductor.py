@@ -9,6 +9,7 @@ import numpy as np
 from adobe_bsdf import fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
 from adobe_bsdf.frame import dot, normalize, reflect
+from adobe_bsdf.lobes.energy_lookup import conductor_energy
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
 
@@ -97,9 +98,7 @@ class Conductor(Lobe):
         if self.fresnel is not None:
             raise ValueError("method = 'table' needs fresnel = None (F = 1) for a Conductor: "
                              "the tables hold the F = 1 albedo")
-        from adobe_bsdf.lobes.kulla_conty import conductor_energy
-
-        E, error = conductor_energy(self.distribution, wo)
+        E, error = conductor_energy(self.distribution, wo, with_error=True)
         return (np.broadcast_to(E[..., None], E.shape + (3,)),
                 np.broadcast_to(error[..., None], error.shape + (3,)))
 

@@ -8,6 +8,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import dot, normalize, reflect, refract
 from adobe_bsdf.fresnel import _dielectric
+from adobe_bsdf.lobes.energy_lookup import dielectric_energy
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
 
@@ -135,9 +136,7 @@ class Dielectric(Lobe):
     def _albedo_table(self, wo):
         """E_R + E_T of the tables of ``adobe_bsdf.tables`` at alpha = sqrt(alpha_x alpha_y)
         (1 where the interface is smooth or index-matched)."""
-        from adobe_bsdf.lobes.kulla_conty import dielectric_energy
-
-        E, error = dielectric_energy(self.eta, self.distribution, wo)
+        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error=True)
         return (np.broadcast_to(E[..., None], E.shape + (3,)),
                 np.broadcast_to(error[..., None], error.shape + (3,)))
 

@@ -8,7 +8,6 @@ Public API
 ``DielectricMultipleScattering``  reflection and transmission terms for a rough dielectric
                                   interface, both sides.
 ``DielectricMS``                  ``Dielectric`` + that term.
-``conductor_energy``, ``dielectric_energy``  table lookups of the single-scattering energy.
 
 The tables are isotropic: an anisotropic pair of alphas is looked up at
 alpha = sqrt(alpha_x alpha_y) (error measured in ``docs/tables.md``). Averages E_avg are the
@@ -27,59 +26,20 @@ from adobe_bsdf import _params, tables
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.lobes.conductor import Conductor
 from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
+from adobe_bsdf.lobes.energy_lookup import (
+    checked_ratio,
+    conductor_energy,
+    dielectric_energy,
+    sides,
+    table_alpha,
+)
 from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScattering",
-           "DielectricMS", "conductor_energy", "dielectric_energy", "table_alpha"]
-
-
-def table_alpha(distribution: GGX) -> np.ndarray:
-    """The isotropic alpha of the tables: sqrt(alpha_x alpha_y), 0 where smooth; checked to
-    lie within the tables' range."""
-    d = distribution
-    alpha = np.where(d.smooth, 0.0, np.sqrt(d.alpha_x * d.alpha_y))
-    return _params.real("sqrt(alpha_x alpha_y)", alpha, 0.0, tables.ALPHA_MAX)
-
-
-def conductor_energy(distribution: GGX, wo):
-    """Single-scattering albedo E(mu_o) (F = 1) and its node error; 0 below the surface."""
-    table = tables.get("ggx_conductor")
-    alpha = table_alpha(distribution)
-    mu = np.maximum(wo[..., 2], 0.0)
-    up = wo[..., 2] > 0.0
-    return (np.where(up, table(mu, alpha)[..., 0], 0.0),
-            np.where(up, table.error(mu, alpha)[..., 0], 0.0))
-
-
-def _sides(eta):
-    """(eta >= 1, index ratio dense / light)."""
-    light_above = eta >= 1.0
-    return light_above, np.where(light_above, eta, 1.0 / eta)
-
-
-def _checked_ratio(eta):
-    ratio = _sides(eta)[1]
-    return _params.real("max(eta, 1/eta)", ratio, 1.0, tables.ETA_MAX)
-
-
-def dielectric_energy(eta, distribution: GGX, wo):
-    """E_R + E_T of a rough interface seen from ``wo`` (either side) and its node error."""
-    alpha = table_alpha(distribution)
-    light_above, ratio = _sides(eta)
-    ratio = _checked_ratio(eta)
-    mu = np.abs(wo[..., 2])
-    on_light = (wo[..., 2] > 0.0) == light_above
-    total, error = 0.0, 0.0
-    for name, here in (("ggx_dielectric_outside", on_light), ("ggx_dielectric_inside",
-                                                              ~on_light)):
-        t = tables.get(name)
-        total = total + np.where(here, t(mu, alpha, ratio).sum(-1), 0.0)
-        error = error + np.where(here, t.error(mu, alpha, ratio).sum(-1), 0.0)
-    exact = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
-    return np.where(exact, 1.0, total), np.where(exact, 0.0, error)
+           "DielectricMS"]
 
 
 def _inverse_loss(E_avg):
@@ -120,14 +80,14 @@ class ConductorMultipleScattering(Separable):
 
     def _X(self, w):
         """1 - E(mu) (clamped at 0 against interpolation overshoot above E = 1)."""
-        return np.maximum(1.0 - conductor_energy(self.distribution, w)[0], 0.0)
+        return np.maximum(1.0 - conductor_energy(self.distribution, w), 0.0)
 
     def _coefficient(self, wo, wi):
         return self._scale
 
     def _albedo_table(self, wo):
         """base_color^2 (1 - E(mu_o)), exact for the tabulated E."""
-        E, error = conductor_energy(self.distribution, wo)
+        E, error = conductor_energy(self.distribution, wo, with_error=True)
         loss = np.where(wo[..., 2] > 0.0, np.maximum(1.0 - E, 0.0), 0.0)
         return self.base_color ** 2 * loss[..., None], self.base_color ** 2 * error[..., None]
 
@@ -179,8 +139,8 @@ class DielectricMultipleScattering(Separable):
         self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
         self.distribution = GGX(alpha_x, alpha_y)
         alpha = table_alpha(self.distribution)
-        ratio = _checked_ratio(self.eta)
-        self._light_above = _sides(self.eta)[0]
+        ratio = checked_ratio(self.eta)
+        self._light_above = sides(self.eta)[0]
         avg_L = tables.get("ggx_dielectric_outside_avg")(alpha, ratio)
         avg_D = tables.get("ggx_dielectric_inside_avg")(alpha, ratio)
         E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
@@ -214,7 +174,7 @@ class DielectricMultipleScattering(Separable):
 
     def _X(self, w):
         """1 - E_s(mu) on the side of ``w`` (clamped at 0 against interpolation overshoot)."""
-        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w)[0], 0.0)
+        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w), 0.0)
 
     def _coefficient(self, wo, wi):
         o_light, i_light = self._on_light(wo), self._on_light(wi)
@@ -233,7 +193,7 @@ class DielectricMultipleScattering(Separable):
 
     def _albedo_table(self, wo):
         """1 - E_s(mu_o): what this term adds, exactly, for the tabulated E."""
-        E, error = dielectric_energy(self.eta, self.distribution, wo)
+        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error=True)
         active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
         loss = np.where(active, np.maximum(1.0 - E, 0.0), 0.0)
         return (np.broadcast_to(loss[..., None], loss.shape + (3,)),

@@ -24,6 +24,7 @@ import numpy as np
 import scipy
 from tqdm import tqdm
 
+from adobe_bsdf.tables.catalog import SPECS
 from adobe_bsdf.tables.table import Table, TableSpec
 
 __all__ = ["BLOCK", "CheckResult", "bake", "check", "compute"]
@@ -111,8 +112,6 @@ CHECK_TOL = 1e-6
 
 def _ordered(names):
     """``names`` plus every table derived from them, parents first."""
-    from adobe_bsdf.tables.catalog import SPECS
-
     wanted = set(names)
     changed = True
     while changed:
@@ -141,7 +140,7 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=2, resolution=N
     folder.mkdir(parents=True, exist_ok=True)
     failures = 0
     baked = {}
-    for name in (names and _ordered(names)) or _ordered(list(_all())):
+    for name in _ordered(names or list(SPECS)):
         s = spec(name)
         if resolution:
             s = dataclasses.replace(s, axes=tuple(dataclasses.replace(a, n=resolution)
@@ -166,12 +165,6 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=2, resolution=N
         print(f"{name:28s} {table.values.size:8d} values, {table.meta['bake_seconds']:8.1f} s, "
               f"max error estimate {table.errors.max():.1e}", flush=True)
     return failures
-
-
-def _all():
-    from adobe_bsdf.tables.catalog import SPECS
-
-    return SPECS
 
 
 def _resized(name, resolution):

@@ -81,8 +81,7 @@ def _average(spec, *coords, parent: Table):
     full = Table(spec, np.einsum("k,k...->...", w, parent.values),
                  np.einsum("k,k...->...", w, parent.errors))
     # the nodes asked for are nodes of the parent: interpolation returns them exactly
-    errors = Table(spec, full.errors, full.errors)
-    return full(*coords), errors(*coords)
+    return full(*coords), full.error(*coords)
 
 
 _MU = Axis("mu", 0.0, 1.0, 48, "log-linear", "cubic")
