@@ -54,26 +54,62 @@ def color(name: str, value, lo: float = -np.inf, hi: float = np.inf) -> np.ndarr
 
 def direction(name: str, value) -> np.ndarray:
     """A batch of unit direction vectors ``(..., 3)``, float64."""
+    arr = direction_shape(name, value)
+    check_unit(name, arr)
+    return arr
+
+
+def direction_shape(name: str, value) -> np.ndarray:
+    """``value`` as float64 with a trailing axis of 3 (the lengths are not checked)."""
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} = {value!r} is not an array of 3-vectors") from exc
     if arr.ndim == 0 or arr.shape[-1] != 3:
         raise ValueError(f"{name} has shape {arr.shape}; directions need a trailing axis of 3")
-    norm = np.sqrt(np.einsum("...i,...i->...", arr, arr))
-    bad = ~np.isfinite(norm) | (np.abs(norm - 1.0) > UNIT_TOLERANCE)
+    return arr
+
+
+#: |w|^2 bounds equivalent to ||w| - 1| <= UNIT_TOLERANCE
+_NORM2_LO, _NORM2_HI = (1.0 - UNIT_TOLERANCE) ** 2, (1.0 + UNIT_TOLERANCE) ** 2
+
+
+def check_unit(name: str, arr: np.ndarray) -> None:
+    """Raise unless every vector of ``arr`` ``(..., 3)`` is finite with unit length."""
+    x, y, z = arr[..., 0], arr[..., 1], arr[..., 2]
+    norm2 = x * x + y * y + z * z
+    # min/max are NaN if any element is: the comparisons then fail as they should
+    if norm2.size and norm2.min() >= _NORM2_LO and norm2.max() <= _NORM2_HI:
+        return
+    bad = ~((norm2 >= _NORM2_LO) & (norm2 <= _NORM2_HI))
     if np.any(bad):
         raise ValueError(f"{name} = {arr[bad][0]!r} is not a unit vector "
                          f"(allowed: |{name}| = 1 within {UNIT_TOLERANCE})")
-    return arr
 
 
 def uniforms(name: str, value, n: int) -> np.ndarray:
     """Uniform random numbers in [0, 1) with a trailing axis of ``n``."""
-    arr = real(name, value, 0.0, 1.0, hi_open=True)
+    arr = uniforms_shape(name, value, n)
+    check_uniform(name, arr)
+    return arr
+
+
+def uniforms_shape(name: str, value, n: int) -> np.ndarray:
+    """``value`` as float64 with a trailing axis of ``n`` (the range is not checked)."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} = {value!r} is not a real number or array of them") from exc
     if arr.ndim == 0 or arr.shape[-1] != n:
         raise ValueError(f"{name} has shape {arr.shape}; it needs a trailing axis of {n}")
     return arr
+
+
+def check_uniform(name: str, arr: np.ndarray) -> None:
+    """Raise unless every element of ``arr`` lies in [0, 1)."""
+    if arr.size and arr.min() >= 0.0 and arr.max() < 1.0:
+        return
+    real(name, arr, 0.0, 1.0, hi_open=True)
 
 
 def choice(name: str, value, allowed: tuple) -> str:

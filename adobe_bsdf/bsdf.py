@@ -15,11 +15,13 @@ away from the surface. ``eval`` is the radiance-transport BSDF *without* the cos
 from __future__ import annotations
 
 import enum
+import math
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 
-from adobe_bsdf import _params, quadrature
+from adobe_bsdf import _params, config, quadrature
 
 __all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS", "luminance"]
 
@@ -31,6 +33,12 @@ LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 def luminance(rgb) -> np.ndarray:
     """Luminance ``(...)`` of linear Rec. 709 colours ``(..., 3)``."""
     return np.asarray(rgb, dtype=np.float64) @ LUMINANCE
+
+
+def _pair(wo, wi):
+    """(array, elementwise check) of a (wo, wi) pair for ``Lobe._batched``."""
+    return ((_params.direction_shape("wo", wo), partial(_params.check_unit, "wo")),
+            (_params.direction_shape("wi", wi), partial(_params.check_unit, "wi")))
 
 
 class Flags(enum.IntFlag):
@@ -84,21 +92,22 @@ class Lobe:
     # -- public protocol -------------------------------------------------------------------
     def eval(self, wo, wi) -> np.ndarray:
         """BSDF value f(wo, wi), RGB ``(..., 3)``, without the cosine factor."""
-        wo = _params.direction("wo", wo)
-        wi = _params.direction("wi", wi)
-        return self._eval(wo, wi)
+        return self._batched(self._eval, _pair(wo, wi))
 
     def pdf(self, wo, wi) -> np.ndarray:
         """Solid-angle density ``(...)`` with which ``sample(wo, u)`` returns ``wi``."""
-        wo = _params.direction("wo", wo)
-        wi = _params.direction("wi", wi)
-        return self._pdf(wo, wi)
+        return self._batched(self._pdf, _pair(wo, wi))
+
+    def eval_pdf(self, wo, wi) -> tuple[np.ndarray, np.ndarray]:
+        """``(eval(wo, wi), pdf(wo, wi))`` in one call, sharing what the two have in common
+        (half vector, masking of ``wo``, Fresnel) where the lobe can."""
+        return self._batched(self._eval_pdf, _pair(wo, wi))
 
     def sample(self, wo, u) -> BSDFSample:
         """Sample ``wi`` given ``wo`` from uniforms ``u`` of shape ``(..., 3)`` in [0, 1)."""
-        wo = _params.direction("wo", wo)
-        u = _params.uniforms("u", u, 3)
-        return self._sample(wo, u)
+        return self._batched(self._sample, (
+            (_params.direction_shape("wo", wo), partial(_params.check_unit, "wo")),
+            (_params.uniforms_shape("u", u, 3), partial(_params.check_uniform, "u"))))
 
     def albedo(
         self,
@@ -148,7 +157,52 @@ class Lobe:
             raise ValueError(f"method = {method!r} is not one of {ALBEDO_METHODS}")
         return (value, error) if return_error else value
 
+    # -- batched execution -----------------------------------------------------------------
+    def _param_shape(self) -> tuple | None:
+        """Batch shape of the lobe's parameters: ``()`` if they are all scalars (colours
+        allowed), ``None`` if unknown. Only lobes with ``()`` are run in chunks."""
+        return None
+
+    def _batched(self, fn, args):
+        """Validate ``args`` ((array, elementwise check) pairs, trailing axis kept) and return
+        ``fn(*arrays)``; large batches of a lobe with scalar parameters run in chunks of
+        ``config`` on its thread pool, element by element the same arithmetic."""
+        arrays = [a for a, _ in args]
+        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        n = math.prod(batch)
+        if n <= config.get_options().chunk_size or self._param_shape() != ():
+            for a, check in args:
+                check(a)
+            return fn(*arrays)
+        flat = [np.broadcast_to(a, batch + a.shape[-1:]).reshape(n, a.shape[-1])
+                for a in arrays]
+        checks = [check for _, check in args]
+        out, kind = [], []
+
+        def run(start, stop):
+            chunk = [a[start:stop] for a in flat]
+            for a, check in zip(chunk, checks, strict=True):
+                check(a)
+            result = fn(*chunk)
+            parts = result if isinstance(result, tuple) else (result,)
+            if not out:  # the first chunk runs alone and allocates the outputs
+                kind.append(type(result))
+                out.extend(np.empty((n, *p.shape[1:]), dtype=p.dtype) for p in parts)
+            for o, p in zip(out, parts, strict=True):
+                o[start:stop] = p
+
+        size = config.get_options().chunk_size
+        run(0, size)
+        config.map_chunks(lambda start, stop: run(start + size, stop + size), n - size)
+        shaped = [o.reshape(batch + o.shape[1:]) for o in out]
+        if kind[0] is BSDFSample:
+            return BSDFSample(*shaped)
+        return tuple(shaped) if kind[0] is tuple else shaped[0]
+
     # -- defaults --------------------------------------------------------------------------
+    def _eval_pdf(self, wo, wi):
+        return self._eval(wo, wi), self._pdf(wo, wi)
+
     def _albedo_mc(self, wo, n_samples, rng):
         n_samples = _params.integer("n_samples", n_samples, 2)
         rng = np.random.default_rng(rng)

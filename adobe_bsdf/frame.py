@@ -26,8 +26,8 @@ __all__ = ["dot", "normalize", "reflect", "refract", "coordinate_system", "rotat
 
 
 def dot(a, b) -> np.ndarray:
-    """Dot product over the trailing axis."""
-    return np.einsum("...i,...i->...", a, b)
+    """Dot product over the trailing axis (a plain multiply-add: faster than einsum)."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
 
 
 def normalize(v) -> np.ndarray:
