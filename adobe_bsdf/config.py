@@ -28,8 +28,9 @@ from adobe_bsdf import _params
 
 __all__ = ["Options", "get_options", "set_options", "options", "map_chunks"]
 
-#: elements per chunk: ~40 float64 temporaries of this length fit in a 2 MiB L2 cache
-DEFAULT_CHUNK_SIZE = 8192
+#: elements per chunk: a colour temporary (3 x 4096 float64, 96 KiB) stays below glibc's 128 KiB
+#: mmap threshold (larger ones are mapped and page-faulted afresh on every call) and in L2
+DEFAULT_CHUNK_SIZE = 4096
 
 
 def _default_threads() -> int:

@@ -8,6 +8,9 @@ Public API
 ``f82(cos_theta, f0, f82)``                            Hoffman's original F82 (seed 000 eqs. 2-5)
 ``f82_tint(cos_theta, f0, tint, f90=1, exponent=5)``   ASM F82-tint (seed 000 eqs. 2-8),
                                                        generalized (seed 001 eqs. 5-6)
+``ExactConductor(eta, k)``, ``ExactDielectric(eta)``    the same models as objects with fixed
+                                                       parameters, for lobes: callable on
+                                                       cos theta, and ``from_cos2`` (cos^2)
 
 Shapes: ``cos_theta`` is ``(...)``; the colour models return ``(..., 3)`` with colour
 parameters given as scalars or ``(..., 3)`` arrays. ``dielectric`` returns ``(...)`` for a
@@ -28,7 +31,8 @@ import numpy as np
 
 from adobe_bsdf import _params
 
-__all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX"]
+__all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX",
+           "ExactConductor", "ExactDielectric"]
 
 #: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) (seed 000 eq. 2)
 COS_THETA_MAX = 1.0 / 7.0
@@ -122,13 +126,108 @@ def conductor(cos_theta_i, eta, k) -> np.ndarray:
 
 
 def _conductor(cos_i: np.ndarray, eta: np.ndarray, k: np.ndarray) -> np.ndarray:
-    c = np.abs(cos_i)[..., None]
-    n2 = (eta + 1j * k) ** 2
-    n_cos_t = np.sqrt(n2 - (1.0 - c * c))
-    matched = n2 == 1.0  # no interface: the denominators below may vanish at grazing
-    r_s = (c - n_cos_t) / np.where(matched, 1.0, c + n_cos_t)
-    r_p = (n2 * c - n_cos_t) / np.where(matched, 1.0, n2 * c + n_cos_t)
-    return np.where(matched, 0.0, 0.5 * (np.abs(r_s) ** 2 + np.abs(r_p) ** 2))
+    c = np.abs(cos_i)
+    return _conductor_cos2(c * c, eta * eta - k * k, 4.0 * eta * eta * k * k,
+                           (eta == 1.0) & (k == 0.0))
+
+
+def _conductor_cos2(c2, A, B, matched) -> np.ndarray:
+    """Exact conductor reflectance from c^2 = cos^2 theta ``(...)`` in real arithmetic.
+
+    With A = eta^2 - k^2, B = 4 eta^2 k^2, s^2 = 1 - c^2 and n c_t = a + i b
+    (a, b >= 0): t0 = A - s^2, a^2 + b^2 = t1 = sqrt(t0^2 + B), a^2 = (t1 + t0) / 2, and
+
+        R_s = (t1 + c^2 - 2 a c) / (t1 + c^2 + 2 a c)
+        R_p = R_s (t1 c^2 - 2 a c s^2 + s^4) / (t1 c^2 + 2 a c s^2 + s^4),
+
+    the moduli |r_s|^2, |r_p|^2 of the complex amplitudes of ``conductor``. Then
+    R = (R_s + R_p) / 2 = R_s q / (q + 2 a c s^2) with q = t1 c^2 + s^4, one division per
+    channel. ``matched`` (eta = 1, k = 0: no interface) gives 0; the denominators vanish only
+    there, at grazing incidence.
+    """
+    # channel-major: the colour axis first, so that every loop runs over the long batch
+    # axis (NumPy iterates a (..., 3) op with a tiny inner loop of 3)
+    c2 = np.asarray(c2, dtype=np.float64)
+    ndim = max(c2.ndim, np.ndim(A) - 1)
+    A, B, matched = (_channel_major(x, ndim) for x in (A, B, matched))
+    s2 = 1.0 - c2
+    t0 = A - s2
+    t1 = t0 * t0
+    t1 += B
+    np.sqrt(t1, out=t1)
+    ac2 = t1 + t0  # 2 a^2, then 2 a c
+    ac2 *= 2.0 * c2
+    np.sqrt(ac2, out=ac2)
+    p = t1 + c2
+    num_s = p - ac2
+    p += ac2  # den_s
+    q = t1 * c2
+    q += s2 * s2
+    ac2 *= s2  # 2 a c s^2
+    ac2 += q  # den_p
+    ac2 *= p
+    num_s *= q
+    if np.any(matched):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            num_s = np.where(matched, 0.0, num_s / ac2)
+    else:
+        num_s /= ac2
+    return np.moveaxis(num_s, 0, -1)
+
+
+def _channel_major(x, ndim: int) -> np.ndarray:
+    """A colour array ``(..., 3)`` as ``(3, ...)`` broadcasting against batches of ``ndim``."""
+    x = np.moveaxis(np.asarray(x), -1, 0)
+    return x.reshape((3,) + (1,) * (ndim - (x.ndim - 1)) + x.shape[1:])
+
+
+class ExactConductor:
+    """Exact conductor Fresnel with fixed eta + i k (``conductor``), as an object for lobes.
+
+    ``ExactConductor(eta, k)(cos_theta) -> (..., 3)``; ``from_cos2(c2)`` skips the
+    validation and the square root (a lobe that knows cos^2 theta).
+    """
+
+    def __init__(self, eta, k):
+        self.eta = _params.color("eta", eta, 0.0, np.inf)
+        self.k = _params.color("k", k, 0.0, np.inf)
+        if np.any(self.eta <= 0.0):
+            raise ValueError(f"eta = {self.eta[self.eta <= 0.0].flat[0]!r} is outside the "
+                             "allowed range (0, inf)")
+        self.eta, self.k = np.broadcast_arrays(self.eta, self.k)
+        self._A = self.eta * self.eta - self.k * self.k
+        self._B = 4.0 * self.eta * self.eta * self.k * self.k
+        self._matched = (self.eta == 1.0) & (self.k == 0.0)
+        #: batch shape of the parameters (beyond the colour axis)
+        self.param_shape = self.eta.shape[:-1]
+
+    def __repr__(self) -> str:
+        return f"ExactConductor(eta={self.eta}, k={self.k})"
+
+    def __call__(self, cos_theta) -> np.ndarray:
+        c = _cos("cos_theta", cos_theta)
+        return self.from_cos2(c * c)
+
+    def from_cos2(self, c2) -> np.ndarray:
+        return _conductor_cos2(c2, self._A, self._B, self._matched)
+
+
+class ExactDielectric:
+    """Exact dielectric Fresnel with fixed relative index ``eta`` (``dielectric``), as an
+    object for lobes; returns ``(...)`` (grey). ``from_cos2(c2)`` is for c = sqrt(c2) >= 0."""
+
+    def __init__(self, eta):
+        self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
+        self.param_shape = self.eta.shape
+
+    def __repr__(self) -> str:
+        return f"ExactDielectric(eta={self.eta})"
+
+    def __call__(self, cos_theta) -> np.ndarray:
+        return _dielectric(_cos("cos_theta", cos_theta), self.eta)
+
+    def from_cos2(self, c2) -> np.ndarray:
+        return _dielectric(np.sqrt(c2), self.eta)
 
 
 # --- Schlick family ----------------------------------------------------------------------

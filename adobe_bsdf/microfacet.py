@@ -160,6 +160,53 @@ class GGX:
         den = zi * so + zo * si
         return np.where(den > 0.0, zi * (zo + so) / np.where(den > 0.0, den, 1.0), 0.0)
 
+    # -- component forms for the lobes' kernels (no validation, no stacking) ---------------
+    @property
+    def param_shape(self) -> tuple:
+        """Batch shape of the alphas."""
+        return self.alpha_x.shape
+
+    def projected(self, x, y, abs_z):
+        """S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) from the components of w (|wz| given),
+        so that Lambda(w) = (S / |wz| - 1) / 2 (Heitz 2014 eq. 86)."""
+        s = self.alpha_x * x
+        s *= s
+        t = self.alpha_y * y
+        t *= t
+        s += t
+        s += abs_z * abs_z
+        return np.sqrt(s, out=s if isinstance(s, np.ndarray) else None)
+
+    def D_of_sum(self, hx, hy, hz, length2):
+        """D(h / |h|) of an unnormalised h with |h|^2 = ``length2`` (eq. 33 of Walter et al.
+        2007 rewritten: D = |h|^4 / (pi ax ay Q^2), Q = (hx/ax)^2 + (hy/ay)^2 + hz^2);
+        0 where hz <= 0. Inf or NaN where h = 0 (the caller masks those)."""
+        q = hx / self._ax
+        q *= q
+        t = hy / self._ay
+        t *= t
+        q += t
+        q += hz * hz
+        q *= q
+        q *= np.pi * self._ax * self._ay
+        return np.where(hz > 0.0, length2 * length2 / q, 0.0)
+
+    def V_of(self, abs_zo, s_o, abs_zi, s_i):
+        """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``)."""
+        if self.masking == "separable":
+            den = (abs_zo + s_o) * (abs_zi + s_i)
+        else:
+            den = abs_zi * s_o
+            den += abs_zo * s_i
+            den *= 2.0
+        return np.divide(1.0, den, out=den if isinstance(den, np.ndarray) else None)
+
+    def G2_over_G1_of(self, abs_zo, s_o, abs_zi, s_i):
+        """G2(wo, wi) / G1(wo) from |wz| and S of both directions (``G2_over_G1``)."""
+        if self.masking == "separable":
+            return 2.0 * abs_zi / (abs_zi + s_i)
+        return abs_zi * (abs_zo + s_o) / (abs_zi * s_o + abs_zo * s_i)
+
     # -- visible normals ------------------------------------------------------------------
     def pdf_visible(self, w, m) -> np.ndarray:
         """Density of visible normals D_w(m) = G1(w) max(0, w.m) D(m) / |wz| (Heitz 2018 eq. 3).

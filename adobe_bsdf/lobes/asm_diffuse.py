@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from functools import partial
-
 import numpy as np
 
 from adobe_bsdf import _params, fresnel, tables
@@ -48,7 +46,7 @@ class ASMSpecular(Conductor):
     def __init__(self, roughness, ior):
         self.roughness, self.ior = _asm_parameters(roughness, ior)
         alpha = self.roughness * self.roughness
-        super().__init__(alpha, fresnel=partial(fresnel.dielectric, eta=self.ior))
+        super().__init__(alpha, fresnel=fresnel.ExactDielectric(self.ior))
 
     def __repr__(self) -> str:
         return f"ASMSpecular(roughness={self.roughness}, ior={self.ior})"

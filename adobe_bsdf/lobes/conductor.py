@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-from functools import partial
-
 import numpy as np
 
 from adobe_bsdf import fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
-from adobe_bsdf.frame import dot, normalize, reflect
+from adobe_bsdf.frame import dot, reflect
 from adobe_bsdf.lobes.energy_lookup import conductor_energy
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
@@ -30,7 +28,9 @@ class Conductor(Lobe):
         GGX roughness along the tangent and the bitangent (``alpha_y`` defaults to ``alpha_x``).
     fresnel : callable or None
         ``fresnel(cos_theta) -> (..., 3)`` or ``(...)``, e.g.
-        ``functools.partial(ab.fresnel.conductor, eta=eta, k=k)``; ``None`` is F = 1.
+        ``ab.fresnel.ExactConductor(eta, k)``; ``None`` is F = 1. The models of
+        ``adobe_bsdf.fresnel`` are fastest (they take cos^2 and declare their parameter
+        shape, so large batches run in chunks on threads); any other callable works too.
     masking : {"correlated", "separable"}
         See ``GGX``.
     """
@@ -49,40 +49,97 @@ class Conductor(Lobe):
         return (f"Conductor(alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
                 f"fresnel={self.fresnel!r}, masking={d.masking!r})")
 
+    def _param_shape(self):
+        if self.fresnel is None:
+            return self.distribution.param_shape
+        if not hasattr(self.fresnel, "param_shape"):
+            return None  # a plain callable: its parameters are unknown
+        return np.broadcast_shapes(self.distribution.param_shape, self.fresnel.param_shape)
+
     def _F(self, cos_theta):
         if self.fresnel is None:
             return np.ones(np.shape(cos_theta) + (3,))
-        value = np.asarray(self.fresnel(cos_theta), dtype=np.float64)
-        if value.shape == np.shape(cos_theta):
+        return self._F2(cos_theta * cos_theta)
+
+    def _F2(self, cos2):
+        """Fresnel ``(..., 3)`` from cos^2 theta (the models of ``adobe_bsdf.fresnel`` take it
+        directly; a plain callable gets the cosine); ``None`` for F = 1."""
+        if self.fresnel is None:
+            return None
+        from_cos2 = getattr(self.fresnel, "from_cos2", None)
+        value = np.asarray(from_cos2(cos2) if from_cos2 is not None
+                           else self.fresnel(np.sqrt(cos2)), dtype=np.float64)
+        if value.shape == np.shape(cos2):
             value = value[..., None]
-        return np.broadcast_to(value, np.broadcast_shapes(value.shape, np.shape(cos_theta) + (3,)))
+        shape = np.broadcast_shapes(value.shape, np.shape(cos2) + (3,))
+        return value if value.shape == shape else np.broadcast_to(value, shape)
+
+    # -- eval and pdf share the half vector, D(h) and S(wo) --------------------------------
+    def _half(self, wo, wi):
+        """(up, D(h), |wo + wi|^2, S(wo)) with h = (wo + wi) / |wo + wi|; wo.h = |wo + wi| / 2,
+        symmetric in (wo, wi) bit for bit (exact reciprocity). Call under ``np.errstate``:
+        pairs that are not both above may divide by zero; they are masked by ``up``."""
+        d = self.distribution
+        ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
+        hx, hy, hz = ox + wi[..., 0], oy + wi[..., 1], oz + wi[..., 2]
+        up = (oz > 0.0) & (wi[..., 2] > 0.0)
+        if np.any(d.smooth):
+            up = up & ~d.smooth
+        length2 = hx * hx
+        length2 += hy * hy
+        length2 += hz * hz
+        return up, d.D_of_sum(hx, hy, hz, length2), length2, d.projected(ox, oy, oz)
+
+    def _f(self, wo, wi, up, D, length2, s_o):
+        d = self.distribution
+        iz = wi[..., 2]
+        D *= d.V_of(wo[..., 2], s_o, iz, d.projected(wi[..., 0], wi[..., 1], iz))
+        DV = np.where(up, D, 0.0)[..., None]
+        F = self._F2(0.25 * length2)
+        if F is None:
+            return np.repeat(DV, 3, axis=-1)
+        if F.flags.writeable and F.shape == DV.shape[:-1] + (3,):
+            F *= DV
+            return F
+        return F * DV
+
+    @staticmethod
+    def _p(wo, up, D, s_o):
+        """pdf = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3)."""
+        return np.where(up, D / (2.0 * (wo[..., 2] + s_o)), 0.0)
 
     def _eval(self, wo, wi):
-        d = self.distribution
-        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0) & ~d.smooth
-        h = normalize(wo + wi)
-        # wo.h = |wo + wi| / 2, symmetric in (wo, wi) bit for bit (exact reciprocity)
-        cos_oh = 0.5 * np.sqrt(dot(wo + wi, wo + wi))
-        f = self._F(cos_oh) * (d.D(h) * d.V(wo, wi))[..., None]
-        return np.where(up[..., None], f, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up, D, length2, s_o = self._half(wo, wi)
+            return self._f(wo, wi, up, D, length2, s_o)
 
     def _pdf(self, wo, wi):
-        d = self.distribution
-        up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0) & ~d.smooth
-        h = normalize(wo + wi)
-        cos_oh = dot(wo, h)
-        pdf = d.pdf_visible(wo, h) / (4.0 * np.where(up, cos_oh, 1.0))
-        return np.where(up, pdf, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up, D, _, s_o = self._half(wo, wi)
+            return self._p(wo, up, D, s_o)
+
+    def _eval_pdf(self, wo, wi):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up, D, length2, s_o = self._half(wo, wi)
+            pdf = self._p(wo, up, D, s_o)
+            return self._f(wo, wi, up, D, length2, s_o), pdf
 
     def _sample(self, wo, u):
         d = self.distribution
         m = d.sample_visible(wo, u[..., 1:3])
         wi = reflect(wo, m)
         cos_om = dot(wo, m)
-        ok = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0) & (cos_om > 0.0)
+        oz, iz = wo[..., 2], wi[..., 2]
+        ok = (oz > 0.0) & (iz > 0.0) & (cos_om > 0.0)
         smooth = np.broadcast_to(d.smooth, ok.shape)
-        pdf = np.where(smooth, 1.0, d.pdf_visible(wo, m) / (4.0 * np.where(ok, cos_om, 1.0)))
-        weight = self._F(cos_om) * np.where(smooth, 1.0, d.G2_over_G1(wo, wi))[..., None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_o = d.projected(wo[..., 0], wo[..., 1], oz)
+            s_i = d.projected(wi[..., 0], wi[..., 1], iz)
+            D = d.D_of_sum(m[..., 0], m[..., 1], m[..., 2], 1.0)
+            pdf = np.where(smooth, 1.0, self._p(wo, ok, D, s_o))
+            g = np.where(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
+        F = self._F2(cos_om * cos_om)
+        weight = np.repeat(g[..., None], 3, axis=-1) if F is None else F * g[..., None]
         flags = np.where(smooth, int(Flags.REFLECTION | Flags.DELTA),
                          int(Flags.REFLECTION | Flags.GLOSSY))
         return BSDFSample(
@@ -91,7 +148,6 @@ class Conductor(Lobe):
             pdf=np.where(ok, pdf, 0.0),
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
-
 
     def _albedo_table(self, wo):
         """E(mu_o, sqrt(alpha_x alpha_y)) of ``tables`` "ggx_conductor"; F = 1 only."""
@@ -125,6 +181,6 @@ register(
               expected_albedo=_one_minus_ln2),
     CheckCase("Conductor a=0.1 F=1", lambda: Conductor(0.1), width=0.2, peak=_mirror),
     CheckCase("Conductor a=(0.5,0.1) gold", lambda: Conductor(
-        0.5, 0.1, fresnel=partial(fresnel.conductor, eta=(0.143, 0.374, 1.442),
-                                  k=(3.983, 2.385, 1.603)))),
+        0.5, 0.1, fresnel=fresnel.ExactConductor(eta=(0.143, 0.374, 1.442),
+                                                 k=(3.983, 2.385, 1.603)))),
 )

@@ -6,7 +6,7 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
-from adobe_bsdf.frame import dot, normalize, reflect, refract
+from adobe_bsdf.frame import dot, reflect, refract
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.lobes.energy_lookup import dielectric_energy
 from adobe_bsdf.microfacet import GGX
@@ -69,66 +69,97 @@ class Dielectric(Lobe):
         """Whether the side ``side`` (+1 above, -1 below) is the less dense one."""
         return (side > 0.0) == (self.eta >= 1.0)
 
+    def _param_shape(self):
+        return np.broadcast_shapes(self.eta.shape, self.distribution.param_shape)
+
     # -- geometry shared by eval and pdf --------------------------------------------------
-    def _oriented(self, wo, wi):
-        """Mirror the pair so that ``wo`` is above; returns (wo', wi', eta_o, eta_i).
-
-        The indices of the two sides are kept apart (1 and ``eta``) rather than as a ratio,
-        so that f(wo, wi) and f(wi, wo) run through bitwise the same arithmetic: near eta = 1
-        the ratio 1/eta would carry a rounding error that the transmission denominator
-        amplifies by 1 / |eta - 1|.
-        """
-        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0)
-        eta_o = np.where(side > 0.0, 1.0, self.eta)
-        eta_i = np.where(side > 0.0, self.eta, 1.0)
-        return _mirror_z(wo, side), _mirror_z(wi, side), eta_o, eta_i, side
-
     def _terms(self, wo, wi):
-        """Everything eval and pdf need, in the frame where ``wo`` is above.
+        """Everything eval and pdf need, computed on components in the frame where ``wo``
+        is above (z mirrored where it is not). Call under ``np.errstate``.
 
-        h is wo + wi for reflection and -(eta_o wo + eta_i wi) for transmission, turned to
-        the upper side; den_t = eta_o wo.h + eta_i wi.h.
+        The indices of the two sides are kept apart (eta_o on the side of ``wo``, eta_i on
+        the other) rather than as a ratio, so that f(wo, wi) and f(wi, wo) run through
+        bitwise the same arithmetic: near eta = 1 the ratio 1/eta would carry a rounding
+        error that the transmission denominator amplifies by 1 / |eta - 1|. The half vector
+        is h = wo + wi for reflection and -(eta_o wo + eta_i wi) for transmission,
+        unnormalised; h / |h| is turned to the upper side.
+
+        Returns (valid, reflection, F, D(h), S(wo), T) with T = 4 (wo.h) |wi.h| (1 - F) /
+        (eta_o wo.h + eta_i wi.h)^2 and eta_o, eta_i.
         """
         d = self.distribution
-        wo, wi, eta_o, eta_i, side = self._oriented(wo, wi)
-        reflection = wi[..., 2] > 0.0
-        transmission = wi[..., 2] < 0.0
-        h = normalize(np.where(reflection[..., None], wo + wi,
-                               -(eta_o[..., None] * wo + eta_i[..., None] * wi)))
-        h = np.where((h[..., 2] < 0.0)[..., None], -h, h)
-        cos_oh, cos_ih = dot(wo, h), dot(wi, h)
+        ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
+        ix, iy, iz = wi[..., 0], wi[..., 1], wi[..., 2]
+        below = oz < 0.0
+        zo = np.abs(oz)
+        zi = np.where(below, -iz, iz)
+        eta_o = np.where(below, self.eta, 1.0)
+        eta_i = np.where(below, 1.0, self.eta)
+        reflection = zi > 0.0
+        a = np.where(reflection, 1.0, -eta_o)
+        b = np.where(reflection, 1.0, -eta_i)
+        hx = a * ox
+        hx += b * ix
+        hy = a * oy
+        hy += b * iy
+        hz = a * zo
+        hz += b * zi
+        length2 = hx * hx
+        length2 += hy * hy
+        length2 += hz * hz
+        length = np.sqrt(length2)
+        inv = np.where(hz < 0.0, -1.0, 1.0) / length
+        cos_oh = (ox * hx + oy * hy + zo * hz) * inv
+        cos_ih = (ix * hx + iy * hy + zi * hz) * inv
         # facets must face wo (and, for refraction, be seen from below by wi)
-        valid = (wo[..., 2] > 0.0) & (cos_oh > 0.0) & ~d.smooth & (eta_o != eta_i)
-        valid &= reflection & (cos_ih > 0.0) | transmission & (cos_ih < 0.0)
+        valid = (zo > 0.0) & (cos_oh > 0.0) & (self.eta != 1.0)
+        valid &= np.where(reflection, cos_ih > 0.0, (cos_ih < 0.0) & (zi < 0.0))
+        if np.any(d.smooth):
+            valid = valid & ~d.smooth
         # The Fresnel term is ill-conditioned near eta = 1 and, seen from the denser side,
         # near the critical angle. So that it is bitwise the same for (wo, wi) and (wi, wo),
         # and matches the sampler, reflection uses wo.h = wi.h = |wo + wi| / 2 and refraction
         # the cosine on the less dense side (Stokes: the same value as from the other side;
         # there F is smooth, with no total-internal-reflection edge).
-        cos_r = 0.5 * np.sqrt(dot(wo + wi, wo + wi))
-        cos_light = np.abs(np.where(self._on_light_side(side), cos_oh, cos_ih))
-        F = np.where(reflection, _dielectric(cos_r, eta_i, eta_o),
-                     self._F_from_light_side(cos_light))
-        den_t = np.where(valid & transmission, eta_o * cos_oh + eta_i * cos_ih, 1.0)
-        return wo, wi, eta_o, eta_i, h, cos_oh, cos_ih, reflection, valid, F, den_t
+        light = self._on_light_side(np.where(below, -1.0, 1.0))
+        cos_F = np.where(reflection, 0.5 * length, np.abs(np.where(light, cos_oh, cos_ih)))
+        dense = self.eta >= 1.0
+        F = _dielectric(cos_F, np.where(reflection, eta_i, np.where(dense, self.eta, 1.0)),
+                        np.where(reflection, eta_o, np.where(dense, 1.0, self.eta)))
+        den_t = eta_o * cos_oh
+        den_t += eta_i * cos_ih
+        T = 4.0 * cos_oh * np.abs(cos_ih) * (1.0 - F) / (den_t * den_t)
+        D = d.D_of_sum(hx, hy, np.abs(hz), length2)
+        return valid, reflection, F, D, d.projected(ox, oy, zo), T, zi, eta_o, eta_i
 
-    def _eval(self, wo, wi):
+    def _f(self, wo, wi, valid, reflection, F, D, s_o, T, zi, eta_o):
         d = self.distribution
-        wo, wi, eta_o, _, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
-        DV = d.D(h) * d.V(wo, wi)
-        f_r = F * DV
-        f_t = (4.0 * np.abs(cos_ih) * cos_oh * eta_o * eta_o * (1.0 - F) * DV
-               / (den_t * den_t))
-        f = np.where(valid, np.where(reflection, f_r, f_t), 0.0)
+        V = d.V_of(np.abs(wo[..., 2]), s_o, np.abs(zi), d.projected(wi[..., 0], wi[..., 1], zi))
+        f = np.where(valid, np.where(reflection, F, eta_o * eta_o * T) * D * V, 0.0)
         return np.broadcast_to(f[..., None], f.shape + (3,))
 
+    @staticmethod
+    def _p(wo, valid, reflection, F, D, s_o, T, eta_i):
+        """pdf_r = F D_wo(h) / (4 wo.h), pdf_t = (1 - F) D_wo(h) eta_i^2 |wi.h| / den_t^2
+        with D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3)."""
+        P = D / (2.0 * (np.abs(wo[..., 2]) + s_o))
+        return np.where(valid, P * np.where(reflection, F, eta_i * eta_i * T), 0.0)
+
+    def _eval(self, wo, wi):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            valid, reflection, F, D, s_o, T, zi, eta_o, _ = self._terms(wo, wi)
+            return self._f(wo, wi, valid, reflection, F, D, s_o, T, zi, eta_o)
+
     def _pdf(self, wo, wi):
-        d = self.distribution
-        wo, wi, _, eta_i, h, cos_oh, cos_ih, reflection, valid, F, den_t = self._terms(wo, wi)
-        Dv = d.pdf_visible(wo, h)
-        pdf_r = F * Dv / (4.0 * np.where(valid, cos_oh, 1.0))
-        pdf_t = (1.0 - F) * Dv * eta_i * eta_i * np.abs(cos_ih) / (den_t * den_t)
-        return np.where(valid, np.where(reflection, pdf_r, pdf_t), 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            valid, reflection, F, D, s_o, T, _, _, eta_i = self._terms(wo, wi)
+            return self._p(wo, valid, reflection, F, D, s_o, T, eta_i)
+
+    def _eval_pdf(self, wo, wi):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            valid, reflection, F, D, s_o, T, zi, eta_o, eta_i = self._terms(wo, wi)
+            return (self._f(wo, wi, valid, reflection, F, D, s_o, T, zi, eta_o),
+                    self._p(wo, valid, reflection, F, D, s_o, T, eta_i))
 
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
