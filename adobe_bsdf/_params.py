@@ -13,7 +13,7 @@ UNIT_TOLERANCE = 1e-6
 
 
 def _first_bad(value: np.ndarray, bad: np.ndarray):
-    return value[bad].flat[0] if np.any(bad) else None
+    return value[bad].flat[0].item() if np.any(bad) else None
 
 
 def real(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,

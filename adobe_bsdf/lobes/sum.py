@@ -1,51 +1,136 @@
-"""Sum of lobes, sampled as a one-sample mixture."""
+"""Weighted sum of lobes, sampled as a mixture; zero-weight lobes cost nothing."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf import _params
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Sum"]
 
 
 class Sum(Lobe):
-    """f = sum_k f_k of lobes that share one surface (and, for transmission, one interface).
+    """f = sum_k w_k f_k of lobes that share one surface (and, for transmission, one
+    interface).
 
-    Sampling picks component k with probability P_k(wo) proportional to its
-    ``_sampling_weight(wo)`` (an albedo estimate), samples it, and weighs a non-delta sample
-    by the whole sum, weight = f |cos| / pdf with pdf = sum_k P_k pdf_k (the one-sample
-    balance heuristic, Veach 1997 §9.2.4), so ``pdf`` and ``sample`` agree whatever the
-    estimates. A delta sample of component k has probability P_k times its own. The first
-    uniform is re-used inside the chosen interval, so components that branch on it (the
-    dielectric's reflect/refract choice) stay stratified.
+    Parameters
+    ----------
+    *components : Lobe
+    weights : sequence of colours in [0, inf), optional
+        One weight w_k per component (scalar or ``(..., 3)``, a texture allowed); default 1.
+        A component whose weight is 0 everywhere is dropped at construction: it is never
+        evaluated or sampled (``components`` holds the active ones only).
+
+    Sampling picks component k with probability P_k(wo) proportional to
+    lum(w_k) ``_sampling_weight_k(wo)`` (an albedo estimate), samples it, and weighs a
+    non-delta sample by the whole sum, weight = f |cos| / pdf with pdf = sum_k P_k pdf_k (the
+    one-sample balance heuristic, Veach 1997 §9.2.4), so ``pdf`` and ``sample`` agree
+    whatever the estimates. A delta sample of component k has probability P_k times its
+    own. The first uniform is re-used inside the chosen interval, so components that branch
+    on it (the dielectric's reflect/refract choice) stay stratified. Where a component's
+    parameters are scalars, it is sampled only for the elements that chose it.
     """
 
-    def __init__(self, *components: Lobe):
-        if not components or not all(isinstance(c, Lobe) for c in components):
-            raise ValueError(f"components = {components!r}: a Sum needs one or more lobes")
-        self.components = components
+    def __init__(self, *components: Lobe, weights=None):
+        if not all(isinstance(c, Lobe) for c in components):
+            raise ValueError(f"components = {components!r}: a Sum takes lobes")
+        if weights is None:
+            weights = [None] * len(components)
+        elif len(weights) != len(components):
+            raise ValueError(f"weights has {len(weights)} entries for {len(components)} "
+                             "components; allowed: one weight per component")
+        else:
+            weights = [_params.color("weights", w, 0.0, np.inf) for w in weights]
+        active = [(c, w) for c, w in zip(components, weights, strict=True)
+                  if w is None or np.any(w != 0.0)]
+        self.components = tuple(c for c, _ in active)
+        #: the active components' weights (None: 1)
+        self.weights = tuple(w for _, w in active)
         flags = Flags.NONE
-        for c in components:
+        for c in self.components:
             flags |= c.flags
         self.flags = flags
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}({', '.join(map(repr, self.components))})"
+        parts = [repr(c) if w is None else f"{w!r} * {c!r}"
+                 for c, w in zip(self.components, self.weights, strict=True)]
+        return f"{type(self).__name__}({', '.join(parts)})"
+
+    def _param_shape(self):
+        shapes = [c._param_shape() for c in self.components]
+        if any(s is None for s in shapes):
+            return None
+        shapes += [w.shape[:-1] for w in self.weights if w is not None]
+        return np.broadcast_shapes(*shapes)
+
+    def _terms(self, method, *args):
+        """Weighted per-component results of ``method`` (a colour-valued private method)."""
+        for c, w in zip(self.components, self.weights, strict=True):
+            value = getattr(c, method)(*args)
+            yield value if w is None else value * w
+
+    @staticmethod
+    def _total(parts, shape):
+        total = None
+        for p in parts:
+            total = p if total is None else total + p
+        return np.zeros(shape) if total is None else total
 
     def _probabilities(self, wo):
-        w = np.stack(np.broadcast_arrays(*(c._sampling_weight(wo) for c in self.components)))
+        w = [c._sampling_weight(wo) * (1.0 if k is None else luminance(k))
+             for c, k in zip(self.components, self.weights, strict=True)]
+        w = np.stack(np.broadcast_arrays(*w))
         total = w.sum(axis=0)
         return np.where(total > 0.0, w / np.where(total > 0.0, total, 1.0), 1.0 / len(w))
 
+    def _batch(self, wo, wi):
+        return np.broadcast_shapes(wo.shape, wi.shape)[:-1]
+
     def _eval(self, wo, wi):
-        return sum(c._eval(wo, wi) for c in self.components)
+        return self._total(self._terms("_eval", wo, wi), self._batch(wo, wi) + (3,))
 
     def _pdf(self, wo, wi):
+        if not self.components:
+            return np.zeros(self._batch(wo, wi))
         P = self._probabilities(wo)
         return sum(P[k] * c._pdf(wo, wi) for k, c in enumerate(self.components))
 
+    def _eval_pdf(self, wo, wi):
+        if not self.components:
+            batch = self._batch(wo, wi)
+            return np.zeros(batch + (3,)), np.zeros(batch)
+        P = self._probabilities(wo)
+        f, pdf = None, None
+        for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
+            fk, pk = c._eval_pdf(wo, wi)
+            fk = fk if w is None else fk * w
+            f = fk if f is None else f + fk
+            pdf = P[k] * pk if pdf is None else pdf + P[k] * pk
+        return f, pdf
+
+    def _sample_component(self, k, wo, u, chosen):
+        """Sample component k for the elements ``chosen`` (all of them if its parameters
+        are not scalars), scattered into full-size arrays."""
+        c = self.components[k]
+        if c._param_shape() != () or wo.ndim != 2 or u.ndim != 2:
+            return c._sample(wo, u)
+        index = np.flatnonzero(chosen)
+        part = c._sample(np.broadcast_to(wo, u.shape)[index], u[index])
+        n = u.shape[0]
+        full = []
+        for field in part:
+            out = np.zeros((n,) + field.shape[1:], dtype=field.dtype)
+            out[index] = field
+            full.append(out)
+        return BSDFSample(*full)
+
     def _sample(self, wo, u):
+        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
+        if not self.components:
+            return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
+                              np.full(batch, int(Flags.NONE)))
         P = self._probabilities(wo)
         P = np.broadcast_to(P, P.shape[:1] + np.broadcast_shapes(P.shape[1:], u.shape[:-1]))
         cdf = np.cumsum(P, axis=0)
@@ -54,19 +139,21 @@ class Sum(Lobe):
         Pk = np.take_along_axis(P, k[None], 0)[0]
         u0 = np.clip((u[..., 0] - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0, np.nextafter(1.0, 0))
         u = np.concatenate([u0[..., None], u[..., 1:]], axis=-1)
-        samples = [c._sample(wo, u) for c in self.components]
-        pick = [k == j for j in range(len(samples))]
-
-        def choose(field):
-            return sum(np.where(p[..., None] if getattr(s, field).ndim > p.ndim else p,
-                                getattr(s, field), 0) for p, s in zip(pick, samples,
-                                                                      strict=True))
-
-        wi, weight, pdf, flags = (choose(f) for f in ("wi", "weight", "pdf", "flags"))
+        wi = np.zeros(batch + (3,))
+        weight = np.zeros(batch + (3,))
+        pdf = np.zeros(batch)
+        flags = np.full(batch, int(Flags.NONE))
+        for j, w in enumerate(self.weights):
+            chosen = k == j
+            s = self._sample_component(j, wo, u, chosen)
+            sw = s.weight if w is None else s.weight * w
+            wi = np.where(chosen[..., None], s.wi, wi)
+            weight = np.where(chosen[..., None], sw, weight)
+            pdf = np.where(chosen, s.pdf, pdf)
+            flags = np.where(chosen, s.flags, flags)
         delta = (flags & int(Flags.DELTA)) != 0
         ok = flags != int(Flags.NONE)
-        mix_pdf = self._pdf(wo, wi)
-        f = self._eval(wo, wi)
+        f, mix_pdf = self._eval_pdf(wo, wi)
         smooth_weight = f * np.abs(wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf, 1.0)[..., None]
         weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None],
                           np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
@@ -80,14 +167,35 @@ class Sum(Lobe):
         )
 
     def _delta_albedo(self, wo):
-        return sum(c._delta_albedo(wo) for c in self.components)
+        return self._total(self._terms("_delta_albedo", wo), wo.shape[:-1] + (3,))
 
     def _energy_scale(self, wo, wi):
+        if not self.components:
+            return super()._energy_scale(wo, wi)
         return self.components[0]._energy_scale(wo, wi)
 
     def _albedo_table(self, wo):
-        parts = [c._albedo_table(wo) for c in self.components]
-        return sum(p[0] for p in parts), sum(p[1] for p in parts)
+        values, errors = [], []
+        for c, w in zip(self.components, self.weights, strict=True):
+            value, error = c._albedo_table(wo)
+            values.append(value if w is None else value * w)
+            errors.append(error if w is None else error * w)
+        shape = wo.shape[:-1] + (3,)
+        return self._total(values, shape), self._total(errors, shape)
 
     def _sampling_weight(self, wo):
-        return sum(c._sampling_weight(wo) for c in self.components)
+        if not self.components:
+            return np.zeros(wo.shape[:-1])
+        return sum(c._sampling_weight(wo) * (1.0 if w is None else luminance(w))
+                   for c, w in zip(self.components, self.weights, strict=True))
+
+
+def _weighted_example():
+    from adobe_bsdf.lobes.conductor import Conductor
+    from adobe_bsdf.lobes.lambert import Lambert
+
+    return Sum(Lambert(), Conductor(0.2), Conductor(0.6, 0.1),
+               weights=[(0.3, 0.2, 0.1), 0.0, (0.7, 0.8, 0.9)])
+
+
+register(CheckCase("Sum 0.3 Lambert + 0 + 0.7 Conductor a=(0.6,0.1)", _weighted_example))

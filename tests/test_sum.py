@@ -1,0 +1,62 @@
+"""``Sum``: weights, zero-weight components dropped, the empty sum, bad weights."""
+
+import numpy as np
+import pytest
+
+import adobe_bsdf as ab
+from adobe_bsdf.lobes import Conductor, Lambert, Sum
+from tests import tolerances
+
+
+def _pairs(n=2000, seed=3):
+    rng = np.random.default_rng(seed)
+    w = rng.normal(size=(2, n, 3))
+    wo, wi = w / np.linalg.norm(w, axis=-1, keepdims=True)
+    wo[:, 2] = np.abs(wo[:, 2])
+    return wo, wi, rng.random((n, 3))
+
+
+def test_weighted_sum_is_the_weighted_components():
+    a, b = Lambert(0.8), Conductor(0.4, 0.1)
+    w_a, w_b = np.array([0.2, 0.5, 0.1]), 0.7
+    mix = Sum(a, b, weights=[w_a, w_b])
+    wo, wi, _ = _pairs()
+    expected = w_a * a.eval(wo, wi) + w_b * b.eval(wo, wi)
+    np.testing.assert_allclose(mix.eval(wo, wi), expected, rtol=tolerances.EXACT, atol=0)
+    wo1 = np.array([0.0, 0.6, 0.8])
+    np.testing.assert_allclose(mix.albedo(wo1, method="quadrature"),
+                               w_a * a.albedo(wo1) + w_b * b.albedo(wo1),
+                               atol=tolerances.FURNACE)
+
+
+def test_zero_weight_components_are_dropped():
+    a, b, c = Lambert(), Conductor(0.3), Conductor(0.05)
+    mix = Sum(a, b, c, weights=[1.0, 0.0, (0.0, 0.0, 0.0)])
+    assert mix.components == (a,)
+    wo, wi, u = _pairs()
+    np.testing.assert_array_equal(mix.eval(wo, wi), a.eval(wo, wi))
+    np.testing.assert_array_equal(mix.pdf(wo, wi), a.pdf(wo, wi))
+
+
+def test_sum_of_nothing_is_black():
+    mix = Sum(Lambert(), weights=[0.0])
+    wo, wi, u = _pairs(50)
+    assert not mix.components
+    assert np.all(mix.eval(wo, wi) == 0.0) and np.all(mix.pdf(wo, wi) == 0.0)
+    s = mix.sample(wo, u)
+    assert np.all(s.weight == 0.0) and np.all(s.pdf == 0.0)
+    assert np.all(s.flags == int(ab.Flags.NONE))
+    assert np.all(mix.albedo(wo[:2]) == 0.0)
+
+
+@pytest.mark.parametrize("weights, message", [([1.0], "weights has 1 entries"),
+                                              ([1.0, -0.5], "weights = -0.5"),
+                                              ([1.0, np.nan], "weights = nan")])
+def test_bad_weights_are_rejected(weights, message):
+    with pytest.raises(ValueError, match=message):
+        Sum(Lambert(), Conductor(0.3), weights=weights)
+
+
+def test_non_lobe_components_are_rejected():
+    with pytest.raises(ValueError, match="components"):
+        Sum(Lambert(), "metal")
