@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.frame import dot, normalize
+from adobe_bsdf.frame import dot
 
 __all__ = ["GGX", "asm_alpha", "ALPHA_MIN", "MASKING"]
 
@@ -230,12 +230,39 @@ class GGX:
         """
         w = np.asarray(w, dtype=np.float64)
         u2 = np.asarray(u2, dtype=np.float64)
-        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)[..., None]
+        return _stack(*self.sample_visible_xyz(w[..., 0], w[..., 1], w[..., 2],
+                                               u2[..., 0], u2[..., 1]))
+
+    def sample_visible_xyz(self, wx, wy, wz, u0, u1):
+        """``sample_visible`` on components: returns (mx, my, mz)."""
         ax, ay = self._ax, self._ay
-        wh = normalize(_stack(ax * w[..., 0], ay * w[..., 1], w[..., 2]) * sign)
-        phi = 2.0 * np.pi * u2[..., 0]
-        z = (1.0 - u2[..., 1]) * (1.0 + wh[..., 2]) - wh[..., 2]
-        sin_t = np.sqrt(np.clip(1.0 - z * z, 0.0, 1.0))
-        h = _stack(sin_t * np.cos(phi), sin_t * np.sin(phi), z) + wh
-        m = normalize(_stack(ax * h[..., 0], ay * h[..., 1], h[..., 2]))
-        return np.where(self.smooth[..., None], np.array([0.0, 0.0, 1.0]), m)
+        sign = np.where(wz < 0.0, -1.0, 1.0)
+        x = ax * wx
+        x *= sign
+        y = ay * wy
+        y *= sign
+        z = np.abs(wz)
+        inv = x * x
+        inv += y * y
+        inv += z * z
+        inv = 1.0 / np.sqrt(inv)
+        x *= inv
+        y *= inv
+        z = z * inv
+        phi = 2.0 * np.pi * u0
+        cz = (1.0 - u1) * (1.0 + z) - z
+        sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
+        mx = (sin_t * np.cos(phi) + x) * ax
+        my = (sin_t * np.sin(phi) + y) * ay
+        mz = cz + z
+        inv = mx * mx
+        inv += my * my
+        inv += mz * mz
+        inv = 1.0 / np.sqrt(inv)
+        mx *= inv
+        my *= inv
+        mz *= inv
+        if np.any(self.smooth):
+            mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
+                                                                   (1.0, mz)))
+        return mx, my, mz

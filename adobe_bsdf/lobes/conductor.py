@@ -6,7 +6,6 @@ import numpy as np
 
 from adobe_bsdf import fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
-from adobe_bsdf.frame import dot, reflect
 from adobe_bsdf.lobes.energy_lookup import conductor_energy
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
@@ -126,16 +125,18 @@ class Conductor(Lobe):
 
     def _sample(self, wo, u):
         d = self.distribution
-        m = d.sample_visible(wo, u[..., 1:3])
-        wi = reflect(wo, m)
-        cos_om = dot(wo, m)
-        oz, iz = wo[..., 2], wi[..., 2]
+        ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
+        mx, my, mz = d.sample_visible_xyz(ox, oy, oz, u[..., 1], u[..., 2])
+        cos_om = ox * mx + oy * my + oz * mz
+        two_cos = 2.0 * cos_om
+        wi = np.stack([two_cos * mx - ox, two_cos * my - oy, two_cos * mz - oz], axis=-1)
+        iz = wi[..., 2]
         ok = (oz > 0.0) & (iz > 0.0) & (cos_om > 0.0)
         smooth = np.broadcast_to(d.smooth, ok.shape)
         with np.errstate(divide="ignore", invalid="ignore"):
-            s_o = d.projected(wo[..., 0], wo[..., 1], oz)
+            s_o = d.projected(ox, oy, oz)
             s_i = d.projected(wi[..., 0], wi[..., 1], iz)
-            D = d.D_of_sum(m[..., 0], m[..., 1], m[..., 2], 1.0)
+            D = d.D_of_sum(mx, my, mz, 1.0)
             pdf = np.where(smooth, 1.0, self._p(wo, ok, D, s_o))
             g = np.where(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
         F = self._F2(cos_om * cos_om)
