@@ -41,6 +41,14 @@ def _pair(wo, wi):
             (_params.direction_shape("wi", wi), partial(_params.check_unit, "wi")))
 
 
+def _like(part: np.ndarray, n: int) -> np.ndarray:
+    """An output for ``n`` elements shaped as the chunk result ``part``, channel-major in
+    memory if ``part`` is (the copy of each chunk is then contiguous)."""
+    if part.ndim == 2 and 0 < part.strides[0] < part.strides[1]:
+        return np.empty((part.shape[1], n), dtype=part.dtype).T
+    return np.empty((n, *part.shape[1:]), dtype=part.dtype)
+
+
 class Flags(enum.IntFlag):
     """Bit flags of a lobe or of one sample (as pbrt-v4 ``BxDFFlags`` / Mitsuba ``BSDFFlags``)."""
 
@@ -187,7 +195,7 @@ class Lobe:
             parts = result if isinstance(result, tuple) else (result,)
             if not out:  # the first chunk runs alone and allocates the outputs
                 kind.append(type(result))
-                out.extend(np.empty((n, *p.shape[1:]), dtype=p.dtype) for p in parts)
+                out.extend(_like(p, n) for p in parts)
             for o, p in zip(out, parts, strict=True):
                 o[start:stop] = p
 

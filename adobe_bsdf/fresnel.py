@@ -132,25 +132,45 @@ def _conductor(cos_i: np.ndarray, eta: np.ndarray, k: np.ndarray) -> np.ndarray:
 
 
 def _conductor_cos2(c2, A, B, matched) -> np.ndarray:
-    """Exact conductor reflectance from c^2 = cos^2 theta ``(...)`` in real arithmetic.
+    """Exact conductor reflectance ``(..., 3)`` from c^2 = cos^2 theta ``(...)`` in real
+    arithmetic, with A = eta^2 - k^2 and B = 4 eta^2 k^2 (``(..., 3)``); see
+    ``_conductor_channel``. ``matched`` (eta = 1, k = 0: no interface) gives 0.
 
-    With A = eta^2 - k^2, B = 4 eta^2 k^2, s^2 = 1 - c^2 and n c_t = a + i b
-    (a, b >= 0): t0 = A - s^2, a^2 + b^2 = t1 = sqrt(t0^2 + B), a^2 = (t1 + t0) / 2, and
+    The result is computed channel-major (memory order (3, ...)), so that every loop runs
+    over the long batch axis: NumPy would iterate a (..., 3) array with an inner loop of 3.
+    """
+    c2 = np.asarray(c2, dtype=np.float64)
+    s2 = 1.0 - c2
+    if np.ndim(A) == 1:  # one interface: a channel at a time with scalar constants
+        if c2.ndim == 0:  # (in-place operations need arrays)
+            return _conductor_cos2(c2[None], A, B, matched)[0]
+        out = np.empty((3,) + c2.shape)
+        for ch in range(3):
+            if matched[ch]:
+                out[ch] = 0.0
+            else:
+                _conductor_channel(c2, s2, A[ch].item(), B[ch].item(), out=out[ch, ...])
+        return np.moveaxis(out, 0, -1)
+    ndim = max(c2.ndim, np.ndim(A) - 1)
+    A, B, matched = (_channel_major(x, ndim) for x in (A, B, matched))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        R = _conductor_channel(c2, s2, A, B)
+    return np.moveaxis(np.where(matched, 0.0, R), 0, -1)
+
+
+def _conductor_channel(c2, s2, A, B, out=None):
+    """One channel (or channel-major channels) of the exact conductor reflectance.
+
+    With s^2 = 1 - c^2 and n c_t = a + i b (a, b >= 0): t0 = A - s^2,
+    a^2 + b^2 = t1 = sqrt(t0^2 + B), a^2 = (t1 + t0) / 2, and
 
         R_s = (t1 + c^2 - 2 a c) / (t1 + c^2 + 2 a c)
         R_p = R_s (t1 c^2 - 2 a c s^2 + s^4) / (t1 c^2 + 2 a c s^2 + s^4),
 
     the moduli |r_s|^2, |r_p|^2 of the complex amplitudes of ``conductor``. Then
-    R = (R_s + R_p) / 2 = R_s q / (q + 2 a c s^2) with q = t1 c^2 + s^4, one division per
-    channel. ``matched`` (eta = 1, k = 0: no interface) gives 0; the denominators vanish only
-    there, at grazing incidence.
+    R = (R_s + R_p) / 2 = R_s q / (q + 2 a c s^2) with q = t1 c^2 + s^4, one division. The
+    denominators vanish only for an index-matched interface at grazing incidence.
     """
-    # channel-major: the colour axis first, so that every loop runs over the long batch
-    # axis (NumPy iterates a (..., 3) op with a tiny inner loop of 3)
-    c2 = np.asarray(c2, dtype=np.float64)
-    ndim = max(c2.ndim, np.ndim(A) - 1)
-    A, B, matched = (_channel_major(x, ndim) for x in (A, B, matched))
-    s2 = 1.0 - c2
     t0 = A - s2
     t1 = t0 * t0
     t1 += B
@@ -167,12 +187,7 @@ def _conductor_cos2(c2, A, B, matched) -> np.ndarray:
     ac2 += q  # den_p
     ac2 *= p
     num_s *= q
-    if np.any(matched):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            num_s = np.where(matched, 0.0, num_s / ac2)
-    else:
-        num_s /= ac2
-    return np.moveaxis(num_s, 0, -1)
+    return np.divide(num_s, ac2, out=num_s if out is None else out)
 
 
 def _channel_major(x, ndim: int) -> np.ndarray:
