@@ -13,19 +13,16 @@ GOLD_K = np.array([3.983, 2.385, 1.603])
 
 
 def born_wolf_conductor(mu, n, k):
-    """Real-arithmetic form of the absorbing-medium Fresnel equations (Born & Wolf §13.2):
-    a^2 + b^2 = sqrt((n^2 - k^2 - s^2)^2 + 4 n^2 k^2), a^2 = (a^2+b^2 + n^2 - k^2 - s^2)/2."""
-    s2 = 1.0 - mu * mu
-    t0 = n * n - k * k - s2
-    a2b2 = np.sqrt(t0 * t0 + 4.0 * n * n * k * k)
-    a = np.sqrt(0.5 * (a2b2 + t0))
-    t1 = a2b2 + mu * mu
-    t2 = 2.0 * mu * a
-    rs = (t1 - t2) / (t1 + t2)
-    t3 = mu * mu * a2b2 + s2 * s2
-    t4 = t2 * s2
-    rp = rs * (t3 - t4) / (t3 + t4)
-    return 0.5 * (rs + rp)
+    """Complex-amplitude form of the absorbing-medium Fresnel equations (Born & Wolf §13.2):
+    n c_t = sqrt(n^2 - sin^2) on the principal branch, r_s = (c - n c_t) / (c + n c_t),
+    r_p = (n^2 c - n c_t) / (n^2 c + n c_t), R = (|r_s|^2 + |r_p|^2) / 2. (The library
+    computes the real-arithmetic form of the same moduli.)"""
+    c = np.asarray(mu, dtype=np.complex128)
+    n2 = (n + 1j * k) ** 2
+    n_cos_t = np.sqrt(n2 - (1.0 - c * c))
+    r_s = (c - n_cos_t) / (c + n_cos_t)
+    r_p = (n2 * c - n_cos_t) / (n2 * c + n_cos_t)
+    return 0.5 * (np.abs(r_s) ** 2 + np.abs(r_p) ** 2)
 
 
 # --- dielectric --------------------------------------------------------------------------
@@ -69,10 +66,27 @@ def test_dielectric_hemispherical_albedo_published(eta, expected):
 
 
 # --- conductor ---------------------------------------------------------------------------
-def test_conductor_against_real_arithmetic_form():
+def test_conductor_against_complex_amplitudes():
     mu = np.linspace(0.0, 1.0, 257)
     value = F.conductor(mu, GOLD_ETA, GOLD_K)
     expected = born_wolf_conductor(mu[:, None], GOLD_ETA, GOLD_K)
+    np.testing.assert_allclose(value, expected, rtol=1e-12, atol=EXACT)
+
+
+def test_conductor_model_object_and_texture_parameters():
+    """``ExactConductor`` (scalar constants, one channel at a time) and per-element
+    parameters (channel-major broadcasting) give the function's values."""
+    mu = np.linspace(-1.0, 1.0, 101)
+    model = F.ExactConductor(GOLD_ETA, GOLD_K)
+    np.testing.assert_array_equal(model(mu), F.conductor(mu, GOLD_ETA, GOLD_K))
+    np.testing.assert_allclose(model.from_cos2(mu * mu), model(mu), rtol=0, atol=EXACT)
+    eta = np.stack([GOLD_ETA, np.array([1.0, 0.2, 2.5])])[:, None, :]  # (2, 1, 3)
+    k = np.stack([GOLD_K, np.array([0.0, 3.0, 0.1])])[:, None, :]
+    value = F.conductor(mu, eta, k)
+    assert value.shape == (2, 101, 3)
+    with np.errstate(invalid="ignore", divide="ignore"):  # 0/0 of eta = 1, k = 0 at mu = 0
+        expected = born_wolf_conductor(np.abs(mu)[None, :, None], eta, k)
+    expected[1, :, 0] = 0.0  # eta = 1, k = 0: no interface
     np.testing.assert_allclose(value, expected, rtol=1e-12, atol=EXACT)
 
 
