@@ -28,9 +28,10 @@ from adobe_bsdf import _params
 
 __all__ = ["Options", "get_options", "set_options", "options", "map_chunks"]
 
-#: elements per chunk: a colour temporary (3 x 4096 float64, 96 KiB) stays below glibc's 128 KiB
-#: mmap threshold (larger ones are mapped and page-faulted afresh on every call) and in L2
-DEFAULT_CHUNK_SIZE = 4096
+#: elements per chunk: a float64 temporary (125 KiB) stays below glibc's 128 KiB mmap threshold
+#: (larger ones are mapped and page-faulted afresh on every call) and the per-call overhead of
+#: NumPy is spread over many elements (docs/execution.md)
+DEFAULT_CHUNK_SIZE = 16000
 
 
 def _default_threads() -> int:

@@ -80,20 +80,38 @@ def _dielectric(cos_i: np.ndarray, eta_t, eta_i=1.0) -> np.ndarray:
     flip = cos_i < 0.0
     eta_t, eta_i = np.where(flip, eta_i, eta_t), np.where(flip, eta_t, eta_i)
     eta = eta_t / eta_i
-    c = np.abs(cos_i)
-    # k = eta^2 - 1 and eta c_t = sqrt(k + c^2): the amplitudes below are the textbook ones
-    # with their numerators rewritten free of cancellation, r_s = (c - eta c_t)/(c + eta c_t)
-    # = -k / (c + eta c_t)^2 and r_p = (eta c - c_t)/(eta c + c_t)
-    # = k (c^2 (eta^2 + 1) - 1) / (eta^2 (eta c + c_t)^2), accurate as eta -> 1.
-    k = (eta_t - eta_i) * (eta_t + eta_i) / (eta_i * eta_i)
-    e2 = k + c * c
-    tir = e2 <= 0.0  # includes the grazing limit c = 0 for eta <= 1
+    return _dielectric_k(np.abs(cos_i), _k_of_indices(eta_t, eta_i), eta * eta)
+
+
+def _k_of_indices(eta_t, eta_i=1.0):
+    """k = (eta_t / eta_i)^2 - 1 formed as (eta_t - eta_i)(eta_t + eta_i) / eta_i^2."""
+    return (eta_t - eta_i) * (eta_t + eta_i) / (eta_i * eta_i)
+
+
+def _dielectric_k(c, k, eta2) -> np.ndarray:
+    """Dielectric reflectance from c = |cos theta_i|, k = eta^2 - 1 and eta^2.
+
+    eta c_t = sqrt(k + c^2) (total internal reflection where k + c^2 <= 0, which includes
+    the grazing limit c = 0 for eta <= 1). The amplitudes are the textbook
+    r_s = (c - eta c_t)/(c + eta c_t) and r_p = (eta c - c_t)/(eta c + c_t) with their
+    numerators rewritten free of cancellation, r_s = -k / (c + eta c_t)^2 and
+    r_p = k (c^2 (eta^2 + 1) - 1) / (eta^2 (eta c + c_t)^2), accurate as eta -> 1.
+    """
+    c2 = c * c
+    e2 = k + c2
+    tir = e2 <= 0.0
     eta_cos_t = np.sqrt(np.maximum(e2, 0.0))
-    den_s = np.where(tir, 1.0, c + eta_cos_t)
-    den_p = np.where(tir, 1.0, eta * eta * c + eta_cos_t)  # eta (eta c + c_t)
-    r_s = -k / (den_s * den_s)
-    r_p = k * (c * c * (eta * eta + 1.0) - 1.0) / (den_p * den_p)
-    return np.where(eta_t == eta_i, 0.0, np.where(tir, 1.0, 0.5 * (r_s * r_s + r_p * r_p)))
+    den_s = c + eta_cos_t
+    den_s *= den_s
+    den_p = eta2 * c + eta_cos_t  # eta (eta c + c_t)
+    den_p *= den_p
+    with np.errstate(divide="ignore", invalid="ignore"):  # masked below
+        r_s = k / den_s
+        r_p = k * (c2 * (eta2 + 1.0) - 1.0) / den_p
+    R = r_s * r_s
+    R += r_p * r_p
+    R *= 0.5
+    return np.where(k == 0.0, 0.0, np.where(tir, 1.0, R))
 
 
 # --- conductor ---------------------------------------------------------------------------

@@ -6,7 +6,7 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
-from adobe_bsdf.fresnel import _dielectric
+from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import dielectric_energy
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
@@ -58,11 +58,20 @@ class Dielectric(Lobe):
         return (f"Dielectric(eta={self.eta}, alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
                 f"masking={d.masking!r})")
 
+    def _fresnel_constants(self):
+        """k = eta^2 - 1 and eta^2 of the interface seen from above, from below, and from
+        the less dense side (where refraction's F is evaluated), each formed from the two
+        indices (``fresnel._k_of_indices``)."""
+        above = (_k_of_indices(self.eta, 1.0), self.eta * self.eta)
+        below = (_k_of_indices(1.0, self.eta), 1.0 / (self.eta * self.eta))
+        dense = self.eta >= 1.0
+        light = tuple(np.where(dense, a, b) for a, b in zip(above, below, strict=True))
+        return above, below, light
+
     def _F_from_light_side(self, cos_light):
         """F seen from the less dense side (no total internal reflection there)."""
-        dense = self.eta >= 1.0
-        eta_t, eta_i = np.where(dense, self.eta, 1.0), np.where(dense, 1.0, self.eta)
-        return _dielectric(cos_light, eta_t, eta_i)
+        _, _, (k, eta2) = self._fresnel_constants()
+        return _dielectric_k(cos_light, k, eta2)
 
     def _on_light_side(self, side):
         """Whether the side ``side`` (+1 above, -1 below) is the less dense one."""
@@ -122,9 +131,9 @@ class Dielectric(Lobe):
         # there F is smooth, with no total-internal-reflection edge).
         light = self._on_light_side(np.where(below, -1.0, 1.0))
         cos_F = np.where(reflection, 0.5 * length, np.abs(np.where(light, cos_oh, cos_ih)))
-        dense = self.eta >= 1.0
-        F = _dielectric(cos_F, np.where(reflection, eta_i, np.where(dense, self.eta, 1.0)),
-                        np.where(reflection, eta_o, np.where(dense, 1.0, self.eta)))
+        (k_a, eta2_a), (k_b, eta2_b), (k_l, eta2_l) = self._fresnel_constants()
+        F = _dielectric_k(cos_F, np.where(reflection, np.where(below, k_b, k_a), k_l),
+                          np.where(reflection, np.where(below, eta2_b, eta2_a), eta2_l))
         den_t = eta_o * cos_oh
         den_t += eta_i * cos_ih
         T = 4.0 * cos_oh * np.abs(cos_ih) * (1.0 - F) / (den_t * den_t)
