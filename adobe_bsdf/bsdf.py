@@ -154,13 +154,17 @@ class Lobe:
             Also return the error estimate, ``(..., 3)``: quadrature: the cubature's estimate
             (sum over cells of ``|I7 - I5|``); mc: one standard error of the mean.
         """
+        if method == "table":
+            # chunked and threaded as eval (a lookup per element)
+            fn = (partial(self._albedo_table, with_error=True) if return_error
+                  else lambda w: self._albedo_table(w, with_error=False)[0])
+            return self._batched(fn, ((_params.direction_shape("wo", wo),
+                                       partial(_params.check_unit, "wo")),))
         wo = _params.direction("wo", wo)
         if method == "quadrature":
             value, error = quadrature.albedo(self, wo, tol=tol)
         elif method == "mc":
             value, error = self._albedo_mc(wo, n_samples, rng)
-        elif method == "table":
-            value, error = self._albedo_table(wo)
         else:
             raise ValueError(f"method = {method!r} is not one of {ALBEDO_METHODS}")
         return (value, error) if return_error else value
@@ -226,7 +230,8 @@ class Lobe:
         """Factor from radiance to energy: (eta_i / eta_o)^2 across an interface, else 1."""
         return np.ones(np.broadcast_shapes(wo.shape, wi.shape)[:-1])
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
+        """``(E, error)`` from baked tables; ``error`` is None unless ``with_error``."""
         raise ValueError(f"method = 'table' is not available for {type(self).__name__}")
 
     def _eval(self, wo, wi):  # pragma: no cover - abstract

@@ -7,6 +7,7 @@ import numpy as np
 from adobe_bsdf import _params, fresnel, tables
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.lobes.conductor import Conductor
+from adobe_bsdf.lobes.energy_lookup import grey
 from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.registry import CheckCase, register
@@ -21,13 +22,14 @@ def _asm_parameters(roughness, ior):
 
 
 def _lobe_integral(roughness, ior, w, with_error=False):
-    """L(mu) of seed 000 eq. 1 (0 below the surface); with ``with_error`` also its node error."""
+    """L(mu) of seed 000 eq. 1 (0 below the surface); with ``with_error`` also its node error
+    (else None)."""
     table = tables.get("asm_diffuse_L")
     mu = np.maximum(w[..., 2], 0.0)
     up = w[..., 2] > 0.0
     L = np.where(up, table(mu, roughness, ior)[..., 0], 0.0)
     if not with_error:
-        return L
+        return L, None
     return L, np.where(up, table.error(mu, roughness, ior)[..., 0], 0.0)
 
 
@@ -51,10 +53,9 @@ class ASMSpecular(Conductor):
     def __repr__(self) -> str:
         return f"ASMSpecular(roughness={self.roughness}, ior={self.ior})"
 
-    def _albedo_table(self, wo):
-        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error=True)
-        return (np.broadcast_to(L[..., None], L.shape + (3,)),
-                np.broadcast_to(error[..., None], error.shape + (3,)))
+    def _albedo_table(self, wo, with_error=True):
+        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error)
+        return grey(L), grey(error)
 
 
 class ASMDiffuse(Separable):
@@ -91,17 +92,17 @@ class ASMDiffuse(Separable):
                 f"ior={self.ior})")
 
     def _X(self, w):
-        return 1.0 - _lobe_integral(self.roughness, self.ior, w)
+        return 1.0 - _lobe_integral(self.roughness, self.ior, w)[0]
 
     def _coefficient(self, wo, wi):
         return self._scale
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
         """rho (1 - L(mu_o)), exact for the tabulated L."""
-        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error=True)
+        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error)
         up = (wo[..., 2] > 0.0)[..., None]
         return (np.where(up, self.reflectance * (1.0 - L)[..., None], 0.0),
-                self.reflectance * error[..., None])
+                None if error is None else self.reflectance * error[..., None])
 
     def _sampling_weight(self, wo):
         return luminance(self.reflectance) * np.where(wo[..., 2] > 0.0, self._X(wo), 0.0)

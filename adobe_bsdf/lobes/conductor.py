@@ -6,7 +6,7 @@ import numpy as np
 
 from adobe_bsdf import fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
-from adobe_bsdf.lobes.energy_lookup import conductor_energy
+from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
 
@@ -150,14 +150,12 @@ class Conductor(Lobe):
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
         """E(mu_o, sqrt(alpha_x alpha_y)) of ``tables`` "ggx_conductor"; F = 1 only."""
         if self.fresnel is not None:
             raise ValueError("method = 'table' needs fresnel = None (F = 1) for a Conductor: "
                              "the tables hold the F = 1 albedo")
-        E, error = conductor_energy(self.distribution, wo, with_error=True)
-        return (np.broadcast_to(E[..., None], E.shape + (3,)),
-                np.broadcast_to(error[..., None], error.shape + (3,)))
+        return tuple(map(grey, conductor_energy(self.distribution, wo, with_error)))
 
     def _sampling_weight(self, wo):
         return luminance(self._F(np.abs(wo[..., 2])))

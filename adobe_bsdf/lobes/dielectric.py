@@ -7,7 +7,7 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
-from adobe_bsdf.lobes.energy_lookup import dielectric_energy
+from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
 
@@ -172,12 +172,10 @@ class Dielectric(Lobe):
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
         """E_R + E_T of the tables of ``adobe_bsdf.tables`` at alpha = sqrt(alpha_x alpha_y)
         (1 where the interface is smooth or index-matched)."""
-        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error=True)
-        return (np.broadcast_to(E[..., None], E.shape + (3,)),
-                np.broadcast_to(error[..., None], error.shape + (3,)))
+        return tuple(map(grey, dielectric_energy(self.eta, self.distribution, wo, with_error)))
 
     # -- sampling -------------------------------------------------------------------------
     def _sample(self, wo, u):

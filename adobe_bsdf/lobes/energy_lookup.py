@@ -19,16 +19,21 @@ def table_alpha(distribution: GGX) -> np.ndarray:
     return _params.real("sqrt(alpha_x alpha_y)", alpha, 0.0, tables.ALPHA_MAX)
 
 
+def grey(value):
+    """A grey value ``(...)`` as a colour ``(..., 3)`` view; None stays None."""
+    return None if value is None else np.broadcast_to(value[..., None], value.shape + (3,))
+
+
 def conductor_energy(distribution: GGX, wo, with_error: bool = False):
-    """Single-scattering albedo E(mu_o) (F = 1), 0 below the surface; with ``with_error``
-    also its carried node error."""
+    """``(E, error)``: single-scattering albedo E(mu_o) (F = 1), 0 below the surface, and
+    its carried node error (None unless ``with_error``)."""
     table = tables.get("ggx_conductor")
     alpha = table_alpha(distribution)
     mu = np.maximum(wo[..., 2], 0.0)
     up = wo[..., 2] > 0.0
     E = np.where(up, table(mu, alpha)[..., 0], 0.0)
     if not with_error:
-        return E
+        return E, None
     return E, np.where(up, table.error(mu, alpha)[..., 0], 0.0)
 
 
@@ -44,8 +49,9 @@ def checked_ratio(eta):
 
 
 def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
-    """E_R + E_T of a rough interface seen from ``wo`` (either side); 1 where the interface
-    is smooth or index-matched; with ``with_error`` also the carried node error."""
+    """``(E, error)``: E_R + E_T of a rough interface seen from ``wo`` (either side), 1 where
+    the interface is smooth or index-matched, and the carried node error (None unless
+    ``with_error``)."""
     alpha = table_alpha(distribution)
     light_above = sides(eta)[0]
     ratio = checked_ratio(eta)
@@ -60,5 +66,5 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
             error = error + np.where(here, t.error(mu, alpha, ratio).sum(-1), 0.0)
     exact = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
     if not with_error:
-        return np.where(exact, 1.0, total)
+        return np.where(exact, 1.0, total), None
     return np.where(exact, 1.0, total), np.where(exact, 0.0, error)

@@ -30,6 +30,7 @@ from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
     conductor_energy,
     dielectric_energy,
+    grey,
     sides,
     table_alpha,
 )
@@ -80,16 +81,17 @@ class ConductorMultipleScattering(Separable):
 
     def _X(self, w):
         """1 - E(mu) (clamped at 0 against interpolation overshoot above E = 1)."""
-        return np.maximum(1.0 - conductor_energy(self.distribution, w), 0.0)
+        return np.maximum(1.0 - conductor_energy(self.distribution, w)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         return self._scale
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
         """base_color^2 (1 - E(mu_o)), exact for the tabulated E."""
-        E, error = conductor_energy(self.distribution, wo, with_error=True)
+        E, error = conductor_energy(self.distribution, wo, with_error)
         loss = np.where(wo[..., 2] > 0.0, np.maximum(1.0 - E, 0.0), 0.0)
-        return self.base_color ** 2 * loss[..., None], self.base_color ** 2 * error[..., None]
+        scale = self.base_color ** 2
+        return scale * loss[..., None], None if error is None else scale * error[..., None]
 
     def _sampling_weight(self, wo):
         return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._X(wo), 0.0)
@@ -174,7 +176,7 @@ class DielectricMultipleScattering(Separable):
 
     def _X(self, w):
         """1 - E_s(mu) on the side of ``w`` (clamped at 0 against interpolation overshoot)."""
-        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w), 0.0)
+        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         o_light, i_light = self._on_light(wo), self._on_light(wi)
@@ -191,13 +193,11 @@ class DielectricMultipleScattering(Separable):
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
         """1 - E_s(mu_o): what this term adds, exactly, for the tabulated E."""
-        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error=True)
+        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error)
         active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
-        loss = np.where(active, np.maximum(1.0 - E, 0.0), 0.0)
-        return (np.broadcast_to(loss[..., None], loss.shape + (3,)),
-                np.broadcast_to(error[..., None], error.shape + (3,)))
+        return grey(np.where(active, np.maximum(1.0 - E, 0.0), 0.0)), grey(error)
 
     def _sampling_weight(self, wo):
         return self._X(wo)

@@ -174,14 +174,15 @@ class Sum(Lobe):
             return super()._energy_scale(wo, wi)
         return self.components[0]._energy_scale(wo, wi)
 
-    def _albedo_table(self, wo):
+    def _albedo_table(self, wo, with_error=True):
         values, errors = [], []
         for c, w in zip(self.components, self.weights, strict=True):
-            value, error = c._albedo_table(wo)
+            value, error = c._albedo_table(wo, with_error)
             values.append(value if w is None else value * w)
-            errors.append(error if w is None else error * w)
+            errors.append(error if w is None or error is None else error * w)
         shape = wo.shape[:-1] + (3,)
-        return self._total(values, shape), self._total(errors, shape)
+        return (self._total(values, shape),
+                self._total(errors, shape) if with_error else None)
 
     def _sampling_weight(self, wo):
         if not self.components:

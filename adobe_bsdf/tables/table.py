@@ -250,17 +250,21 @@ class Table:
             raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
                              f"({', '.join(a.name for a in axes)}), got {len(coords)}")
         stencils = [a.stencil(c) for a, c in zip(axes, coords, strict=True)]
-        shape = np.broadcast_shapes(*(i.shape[:-1] for i, _ in stencils))
         strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
+        # flat node index of every stencil point along each axis, formed once
+        offsets = [i * stride for (i, _), stride in zip(stencils, strides, strict=True)]
         flat = data.reshape(-1, data.shape[-1])
-        out = np.zeros(shape + (flat.shape[1],))
+        out = None
         for corner in itertools.product(*(range(i.shape[-1]) for i, _ in stencils)):
-            index = np.zeros(shape, dtype=np.intp)
-            weight = np.ones(shape)
-            for k, (c, (i, w)) in enumerate(zip(corner, stencils, strict=True)):
-                index = index + i[..., c] * strides[k]
-                weight = weight * w[..., c]
-            out += (np.abs(weight) if absolute else weight)[..., None] * flat[index]
+            index, weight = None, None
+            for c, offset, (_, w) in zip(corner, offsets, stencils, strict=True):
+                index = offset[..., c] if index is None else index + offset[..., c]
+                weight = w[..., c] if weight is None else weight * w[..., c]
+            term = flat[index] * (np.abs(weight) if absolute else weight)[..., None]
+            if out is None:
+                out = term
+            else:
+                out += term
         return out
 
     def channel(self, name: str) -> int:
