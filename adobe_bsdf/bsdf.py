@@ -23,7 +23,7 @@ import numpy as np
 
 from adobe_bsdf import _params, config, quadrature
 
-__all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS", "luminance"]
+__all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS", "luminance", "on_support"]
 
 ALBEDO_METHODS = ("quadrature", "mc", "table")
 #: Rec. 709 / sRGB luminance weights of linear RGB
@@ -47,6 +47,36 @@ def _like(part: np.ndarray, n: int) -> np.ndarray:
     if part.ndim == 2 and 0 < part.strides[0] < part.strides[1]:
         return np.empty((part.shape[1], n), dtype=part.dtype).T
     return np.empty((n, *part.shape[1:]), dtype=part.dtype)
+
+
+#: compact a batch onto a lobe's support when at most this share of the pairs lies in it
+COMPACT_SHARE = 0.75
+
+
+def on_support(kernel, inside, wo, wi):
+    """``kernel(wo, wi)`` evaluated only where ``inside`` (a one-sided lobe's support),
+    zero elsewhere; the same values as running it everywhere and masking.
+
+    Compacts 2-D batches ``(n, 3)`` when at most ``COMPACT_SHARE`` of the pairs are inside
+    (the gathers cost less than the work saved), else calls ``kernel`` on everything.
+    ``kernel`` returns an array or a tuple of arrays with the batch as first axis and must
+    itself give 0 outside ``inside``.
+    """
+    if wo.ndim != 2 or wi.ndim != 2 or wo.shape != wi.shape:
+        return kernel(wo, wi)
+    count = np.count_nonzero(inside)
+    if count > COMPACT_SHARE * len(inside):
+        return kernel(wo, wi)
+    index = np.flatnonzero(inside)
+    result = kernel(wo[index], wi[index])
+    parts = result if isinstance(result, tuple) else (result,)
+    out = []
+    for p in parts:
+        o = _like(p, len(inside))
+        o[...] = 0
+        o[index] = p
+        out.append(o)
+    return tuple(out) if isinstance(result, tuple) else out[0]
 
 
 class Flags(enum.IntFlag):

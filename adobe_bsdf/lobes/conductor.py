@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import fresnel
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance, on_support
 from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.registry import CheckCase, register
@@ -81,7 +81,7 @@ class Conductor(Lobe):
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
         hx, hy, hz = ox + wi[..., 0], oy + wi[..., 1], oz + wi[..., 2]
-        up = (oz > 0.0) & (wi[..., 2] > 0.0)
+        up = self._support(wo, wi)
         if np.any(d.smooth):
             up = up & ~d.smooth
         length2 = hx * hx
@@ -108,16 +108,29 @@ class Conductor(Lobe):
         return np.where(up, D / (2.0 * (wo[..., 2] + s_o)), 0.0)
 
     def _eval(self, wo, wi):
+        return on_support(self._eval_kernel, self._support(wo, wi), wo, wi)
+
+    def _pdf(self, wo, wi):
+        return on_support(self._pdf_kernel, self._support(wo, wi), wo, wi)
+
+    def _eval_pdf(self, wo, wi):
+        return on_support(self._eval_pdf_kernel, self._support(wo, wi), wo, wi)
+
+    @staticmethod
+    def _support(wo, wi):
+        return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
+
+    def _eval_kernel(self, wo, wi):
         with np.errstate(divide="ignore", invalid="ignore"):
             up, D, length2, s_o = self._half(wo, wi)
             return self._f(wo, wi, up, D, length2, s_o)
 
-    def _pdf(self, wo, wi):
+    def _pdf_kernel(self, wo, wi):
         with np.errstate(divide="ignore", invalid="ignore"):
             up, D, _, s_o = self._half(wo, wi)
             return self._p(wo, up, D, s_o)
 
-    def _eval_pdf(self, wo, wi):
+    def _eval_pdf_kernel(self, wo, wi):
         with np.errstate(divide="ignore", invalid="ignore"):
             up, D, length2, s_o = self._half(wo, wi)
             pdf = self._p(wo, up, D, s_o)
