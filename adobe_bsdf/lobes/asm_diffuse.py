@@ -91,6 +91,10 @@ class ASMDiffuse(Separable):
         return (f"ASMDiffuse(albedo={self.reflectance}, roughness={self.roughness}, "
                 f"ior={self.ior})")
 
+    def _param_shape(self):
+        return np.broadcast_shapes(self.roughness.shape, self.ior.shape,
+                                   self.reflectance.shape[:-1])
+
     def _X(self, w):
         return 1.0 - _lobe_integral(self.roughness, self.ior, w)[0]
 

@@ -79,6 +79,9 @@ class ConductorMultipleScattering(Separable):
         return (f"ConductorMultipleScattering(alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
                 f"base_color={self.base_color})")
 
+    def _param_shape(self):
+        return np.broadcast_shapes(self.distribution.param_shape, self.base_color.shape[:-1])
+
     def _X(self, w):
         """1 - E(mu) (clamped at 0 against interpolation overshoot above E = 1)."""
         return np.maximum(1.0 - conductor_energy(self.distribution, w)[0], 0.0)
@@ -170,6 +173,9 @@ class DielectricMultipleScattering(Separable):
         d = self.distribution
         return (f"DielectricMultipleScattering(eta={self.eta}, alpha_x={d.alpha_x}, "
                 f"alpha_y={d.alpha_y})")
+
+    def _param_shape(self):
+        return np.broadcast_shapes(self.eta.shape, self.distribution.param_shape)
 
     def _on_light(self, w):
         return (w[..., 2] > 0.0) == self._light_above

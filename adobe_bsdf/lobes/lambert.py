@@ -32,6 +32,9 @@ class Lambert(Lobe):
     def __repr__(self) -> str:
         return f"Lambert(albedo={self.reflectance})"
 
+    def _param_shape(self):
+        return self.reflectance.shape[:-1]
+
     def _eval(self, wo, wi):
         up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
         return np.where(up[..., None], self.reflectance / np.pi, 0.0)
