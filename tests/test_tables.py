@@ -65,6 +65,24 @@ def test_average_weights_integrate_the_interpolant_exactly():
     assert abs(axis.average_weights() @ axis.nodes() - 2.0 / 3.0) < 1e-14
 
 
+@pytest.mark.parametrize("name, fixed", [("ggx_conductor", {"alpha": 0.37}),
+                                         ("ggx_dielectric_inside", {"alpha": 0.2, "eta": 1.33}),
+                                         ("asm_diffuse_L", {"roughness": 0.0, "ior": 4.0})])
+def test_a_table_fixed_at_scalars_is_the_same_interpolant(name, fixed):
+    """``Table.fix`` contracts the fixed axes' stencils once: the lookups over the other
+    axes give the full table's values and carried errors, up to rounding."""
+    table = tables.get(name)
+    mu = np.concatenate([[0.0, 1.0], np.random.default_rng(5).random(200) ** 3])
+    fixed_table = table.fix(**fixed)
+    assert [a.name for a in fixed_table.spec.axes] == ["mu"]
+    full = table(mu, *fixed.values())
+    np.testing.assert_allclose(fixed_table(mu), full, rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(fixed_table.error(mu), table.error(mu, *fixed.values()),
+                               rtol=1e-12, atol=1e-20)
+    with pytest.raises(ValueError, match="no axis"):
+        table.fix(beta=1.0)
+
+
 def test_out_of_range_coordinates_raise_naming_the_axis(poly_table):
     with pytest.raises(ValueError, match="alpha"):
         poly_table(0.5, 2.5)

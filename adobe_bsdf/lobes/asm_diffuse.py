@@ -7,7 +7,7 @@ import numpy as np
 from adobe_bsdf import _params, fresnel, tables
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.lobes.conductor import Conductor
-from adobe_bsdf.lobes.energy_lookup import grey
+from adobe_bsdf.lobes.energy_lookup import grey, lookup
 from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.registry import CheckCase, register
@@ -22,15 +22,12 @@ def _asm_parameters(roughness, ior):
 
 
 def _lobe_integral(roughness, ior, w, with_error=False):
-    """L(mu) of seed 000 eq. 1 (0 below the surface); with ``with_error`` also its node error
-    (else None)."""
-    table = tables.get("asm_diffuse_L")
-    mu = np.maximum(w[..., 2], 0.0)
+    """``(L, error)``: L(mu) of seed 000 eq. 1 (0 below the surface) and its node error
+    (None unless ``with_error``)."""
     up = w[..., 2] > 0.0
-    L = np.where(up, table(mu, roughness, ior)[..., 0], 0.0)
-    if not with_error:
-        return L, None
-    return L, np.where(up, table.error(mu, roughness, ior)[..., 0], 0.0)
+    L, error = lookup("asm_diffuse_L", np.maximum(w[..., 2], 0.0), with_error,
+                      roughness=roughness, ior=ior)
+    return np.where(up, L, 0.0), None if error is None else np.where(up, error, 0.0)
 
 
 class ASMSpecular(Conductor):

@@ -3,12 +3,15 @@ conductor albedo and the dielectric's E_R + E_T from either side (``adobe_bsdf.t
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from adobe_bsdf import _params, tables
 from adobe_bsdf.microfacet import GGX
 
-__all__ = ["table_alpha", "conductor_energy", "dielectric_energy", "sides", "checked_ratio"]
+__all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "dielectric_energy", "sides",
+           "checked_ratio"]
 
 
 def table_alpha(distribution: GGX) -> np.ndarray:
@@ -24,17 +27,35 @@ def grey(value):
     return None if value is None else np.broadcast_to(value[..., None], value.shape + (3,))
 
 
+def lookup(name: str, mu, with_error: bool = False, **params):
+    """``(value, error)`` of table ``name`` (summed over its output channels) at
+    ``mu`` and its other axes' ``params`` (in the table's axis order); error None unless
+    ``with_error``. Scalar ``params`` use the table fixed at them (``Table.fix``, cached):
+    the same interpolant at 4 gathers per lookup."""
+    if all(np.ndim(v) == 0 for v in params.values()):
+        table, coords = _fixed(name, **{k: float(v) for k, v in params.items()}), (mu,)
+    else:
+        table, coords = tables.get(name), (mu, *params.values())
+    value = table(*coords).sum(-1)
+    return value, (table.error(*coords).sum(-1) if with_error else None)
+
+
+@functools.lru_cache(maxsize=512)
+def _fixed(name: str, **fixed):
+    return tables.get(name).fix(**fixed)
+
+
+def _where(mask, value, fill):
+    return None if value is None else np.where(mask, value, fill)
+
+
 def conductor_energy(distribution: GGX, wo, with_error: bool = False):
     """``(E, error)``: single-scattering albedo E(mu_o) (F = 1), 0 below the surface, and
     its carried node error (None unless ``with_error``)."""
-    table = tables.get("ggx_conductor")
-    alpha = table_alpha(distribution)
-    mu = np.maximum(wo[..., 2], 0.0)
     up = wo[..., 2] > 0.0
-    E = np.where(up, table(mu, alpha)[..., 0], 0.0)
-    if not with_error:
-        return E, None
-    return E, np.where(up, table.error(mu, alpha)[..., 0], 0.0)
+    E, error = lookup("ggx_conductor", np.maximum(wo[..., 2], 0.0), with_error,
+                      alpha=table_alpha(distribution))
+    return np.where(up, E, 0.0), _where(up, error, 0.0)
 
 
 def sides(eta):
@@ -51,20 +72,27 @@ def checked_ratio(eta):
 def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
     """``(E, error)``: E_R + E_T of a rough interface seen from ``wo`` (either side), 1 where
     the interface is smooth or index-matched, and the carried node error (None unless
-    ``with_error``)."""
+    ``with_error``). Each side's table is looked up only for the directions on that side
+    (where the parameters are scalars)."""
     alpha = table_alpha(distribution)
-    light_above = sides(eta)[0]
     ratio = checked_ratio(eta)
     mu = np.abs(wo[..., 2])
-    on_light = (wo[..., 2] > 0.0) == light_above
-    total, error = 0.0, 0.0
+    on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
+    exact = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
+    shape = np.broadcast_shapes(mu.shape, alpha.shape, ratio.shape)
+    total = np.zeros(shape)
+    error = np.zeros(shape) if with_error else None
+    scalar = alpha.ndim == 0 and ratio.ndim == 0 and mu.shape == shape and mu.ndim > 0
     for name, here in (("ggx_dielectric_outside", on_light),
                        ("ggx_dielectric_inside", ~on_light)):
-        t = tables.get(name)
-        total = total + np.where(here, t(mu, alpha, ratio).sum(-1), 0.0)
-        if with_error:
-            error = error + np.where(here, t.error(mu, alpha, ratio).sum(-1), 0.0)
-    exact = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
-    if not with_error:
-        return np.where(exact, 1.0, total), None
-    return np.where(exact, 1.0, total), np.where(exact, 0.0, error)
+        if scalar:  # only the directions on this side
+            index = np.nonzero(here)
+            E, err = lookup(name, mu[index], with_error, alpha=alpha, eta=ratio)
+            total[index] = E
+            if with_error:
+                error[index] = err
+        else:
+            E, err = lookup(name, mu, with_error, alpha=alpha, eta=ratio)
+            total = np.where(here, E, total)
+            error = _where(here, err, error)
+    return np.where(exact, 1.0, total), _where(exact, 0.0, error)
