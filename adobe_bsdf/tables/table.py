@@ -125,22 +125,29 @@ class Axis:
 
     def stencil(self, x) -> tuple[np.ndarray, np.ndarray]:
         """Node indices and weights ``(..., k)`` of the interpolant at ``x`` (k = 2 or 4)."""
+        start, weights = self.stencil_parts(x)
+        return start[..., None] + np.arange(len(weights)), np.stack(weights, -1)
+
+    def stencil_parts(self, x) -> tuple[np.ndarray, list]:
+        """``(start, [w_0, ..., w_{k-1}])``: the interpolant at ``x`` is
+        sum_j w_j f[start + j] (k = 2 linear, 4 cubic Catmull–Rom)."""
         i, t = self.locate(x)
         if self.interpolation == "linear":
-            return np.stack([i, i + 1], -1), np.stack([1.0 - t, t], -1)
-        t2, t3 = t * t, t * t * t
-        w = np.stack([-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0,
-                      -1.5 * t3 + 2.0 * t2 + 0.5 * t, 0.5 * t3 - 0.5 * t2], -1)
+            return i, [1.0 - t, t]
+        t2 = t * t
+        t3 = t2 * t
+        w = [-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0,
+             -1.5 * t3 + 2.0 * t2 + 0.5 * t, 0.5 * t3 - 0.5 * t2]
         # ghost nodes by quadratic extrapolation, f(-1) = 3 f0 - 3 f1 + f2 (and mirrored at
         # the end), folded into a stencil shifted inside the table
-        wm, w0, w1, w2 = (w[..., k] for k in range(4))
-        zero = np.zeros_like(t)
-        at_first = np.stack([w0 + 3 * wm, w1 - 3 * wm, w2 + wm, zero], -1)
-        at_last = np.stack([zero, wm + w2, w0 - 3 * w2, w1 + 3 * w2], -1)
-        w = np.where((i == 0)[..., None], at_first, np.where((i == self.n - 2)[..., None],
-                                                             at_last, w))
-        start = np.clip(i - 1, 0, self.n - 4)
-        return start[..., None] + np.arange(4), w
+        first, last = i == 0, i == self.n - 2
+        if np.any(first) or np.any(last):
+            wm, w0, w1, w2 = w
+            at_first = (w0 + 3 * wm, w1 - 3 * wm, w2 + wm, 0.0)
+            at_last = (0.0, wm + w2, w0 - 3 * w2, w1 + 3 * w2)
+            w = [np.where(first, a, np.where(last, b, c))
+                 for a, b, c in zip(at_first, at_last, w, strict=True)]
+        return np.clip(i - 1, 0, self.n - 4), w
 
     def average_weights(self, order: int = 8) -> np.ndarray:
         """Weights ``(n,)`` with sum_k w_k f_k = 2 int f(x) x dx over the axis, exactly for the
@@ -277,18 +284,19 @@ class Table:
         if len(coords) != len(axes):
             raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
                              f"({', '.join(a.name for a in axes)}), got {len(coords)}")
-        stencils = [a.stencil(c) for a, c in zip(axes, coords, strict=True)]
+        stencils = [a.stencil_parts(c) for a, c in zip(axes, coords, strict=True)]
         strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
-        # flat node index of every stencil point along each axis, formed once
-        offsets = [i * stride for (i, _), stride in zip(stencils, strides, strict=True)]
+        base = None  # flat index of every lookup's first stencil node
+        for (start, _), stride in zip(stencils, strides, strict=True):
+            base = start * stride if base is None else base + start * stride
         flat = data.reshape(-1, data.shape[-1])
         out = None
-        for corner in itertools.product(*(range(i.shape[-1]) for i, _ in stencils)):
-            index, weight = None, None
-            for c, offset, (_, w) in zip(corner, offsets, stencils, strict=True):
-                index = offset[..., c] if index is None else index + offset[..., c]
-                weight = w[..., c] if weight is None else weight * w[..., c]
-            term = flat[index] * (np.abs(weight) if absolute else weight)[..., None]
+        for corner in itertools.product(*(range(len(w)) for _, w in stencils)):
+            offset, weight = 0, None
+            for c, stride, (_, w) in zip(corner, strides, stencils, strict=True):
+                offset += c * stride
+                weight = w[c] if weight is None else weight * w[c]
+            term = flat[base + offset] * (np.abs(weight) if absolute else weight)[..., None]
             if out is None:
                 out = term
             else:
