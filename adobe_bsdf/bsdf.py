@@ -182,7 +182,10 @@ class Lobe:
             ``"mc"`` only: source of the uniforms.
         return_error : bool
             Also return the error estimate, ``(..., 3)``: quadrature: the cubature's estimate
-            (sum over cells of ``|I7 - I5|``); mc: one standard error of the mean.
+            (sum over cells of ``|I7 - I5|``); mc: one standard error of the mean; table: the
+            tables' node quadrature error carried through the interpolation, *not* the
+            interpolation error, which is larger (measured in ``docs/tables.md``). How honest
+            each estimate is, is measured in ``docs/performance.md``.
         """
         if method == "table":
             # chunked and threaded as eval (a lookup per element)
