@@ -1,0 +1,123 @@
+"""Smoke test of ``python -m benchmarks --smoke``: it runs (tiny sizes) in a subprocess, writes
+``results.json`` and ``performance.md`` into a temporary folder only, and every section has
+its expected structure with positive timings. Speed itself is not asserted. Passes with or
+without Mitsuba / a shared libLLVM (the Mitsuba section then says why it is unavailable) and
+without matplotlib (no plots)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def smoke(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    before = {p: p.stat().st_mtime_ns for p in (ROOT / "benchmarks" / "results.json",
+                                                ROOT / "docs" / "performance.md") if p.exists()}
+    proc = subprocess.run([sys.executable, "-m", "benchmarks", "--smoke", "--out", str(out)],
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    after = {p: p.stat().st_mtime_ns for p in before}
+    assert after == before, "the smoke run touched the repository's results"
+    results = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    return out, results, (out / "performance.md").read_text(encoding="utf-8")
+
+
+def _positive(row):
+    assert row["seconds"] > 0 and row["evals_per_s"] > 0 and row["memory_passes"] > 0, row
+    assert len(row["times"]) >= 2 and all(t > 0 for t in row["times"]), row
+
+
+def test_machine_facts(smoke):
+    _, results, _ = smoke
+    m = results["machine"]
+    assert results["smoke"] is True
+    assert m["cores"] >= 1 and m["python"] and m["numpy"] and m["date_utc"]
+    assert results["total_seconds"] > 0
+
+
+def test_throughput_covers_every_case(smoke):
+    import adobe_bsdf  # noqa: F401  (registers the cases)
+    from adobe_bsdf.registry import cases
+
+    _, results, _ = smoke
+    tp = results["throughput"]
+    assert "error" not in tp, tp.get("error")
+    assert tp["sizes"] == [10**3, 10**4] and tp["runs"] == 2
+    measured = {(r["case"], r["call"], r["n"]) for r in tp["rows"] if "seconds" in r}
+    for case in cases():
+        for call in ("eval", "pdf", "sample"):
+            for n in tp["sizes"]:
+                assert (case.name, call, n) in measured, (case.name, call, n)
+    for row in tp["rows"]:
+        assert "error" not in row, row
+        _positive(row)
+    assert all(v > 0 for v in tp["memory_pass_seconds"].values())
+
+
+def test_headline(smoke):
+    _, results, _ = smoke
+    hl = results["headline"]
+    assert "error" not in hl, hl.get("error")
+    assert set(hl["labels"]) == {"conductor", "dielectric"}
+    keys = {(r["lobe"], r["call"], r["threads"]) for r in hl["rows"]}
+    for lobe in ("conductor", "dielectric"):
+        for call in ("eval", "pdf", "sample"):
+            for threads in hl["threads"]:
+                assert (lobe, call, threads) in keys
+    for row in hl["rows"]:
+        _positive(row)
+
+
+def test_mitsuba_section_available_or_explained(smoke):
+    _, results, text = smoke
+    mi = results["mitsuba"]
+    assert "error" not in mi, mi.get("error")
+    if not mi["available"]:
+        assert mi["reason"]
+        assert "Not available" in text
+        return
+    rows = {(r["lobe"], r["call"]): r for r in mi["rows"]}
+    assert set(rows) == {(lobe, call) for lobe in ("conductor", "dielectric")
+                         for call in ("eval", "pdf", "sample")}
+    for r in rows.values():
+        assert r["first_seconds"] > 0 and r["median_seconds"] > 0
+    agreement = mi["agreement"]
+    if "error" not in agreement:  # older lobes without a masking option
+        assert all(v["max_relative_difference"] < 1e-3 for v in agreement.values())
+
+
+def test_active_lobes(smoke):
+    _, results, _ = smoke
+    al = results["active_lobes"]
+    assert "error" not in al, al.get("error")
+    assert [r["k"] for r in al["rows"]] == list(range(al["K"] + 1))
+    for r in al["rows"]:
+        assert "error" not in r, r
+        for call in ("eval", "sample"):
+            if call in r:
+                assert r[call]["seconds"] > 0
+    assert sum("eval" in r for r in al["rows"]) >= al["K"]
+
+
+def test_markdown_written(smoke):
+    out, results, text = smoke
+    assert text.startswith("<!-- written by python -m benchmarks; do not edit by hand -->")
+    for heading in ("## Headline", "## Mitsuba 3 reference", "## Threads",
+                    "## Throughput of every registered case",
+                    "## Cost against the number of active lobes", "## Speed versus accuracy"):
+        assert heading in text
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return
+    for name in ("performance_throughput.png", "performance_active_lobes.png"):
+        assert (out / "figures" / name).stat().st_size > 0
+        assert f"figures/{name}" in text
