@@ -74,10 +74,12 @@ def direction_shape(name: str, value) -> np.ndarray:
 _NORM2_LO, _NORM2_HI = (1.0 - UNIT_TOLERANCE) ** 2, (1.0 + UNIT_TOLERANCE) ** 2
 
 
+_ONES3 = np.ones(3)
+
+
 def check_unit(name: str, arr: np.ndarray) -> None:
     """Raise unless every vector of ``arr`` ``(..., 3)`` is finite with unit length."""
-    x, y, z = arr[..., 0], arr[..., 1], arr[..., 2]
-    norm2 = x * x + y * y + z * z
+    norm2 = np.square(arr) @ _ONES3  # one pass over (..., 3) and a BLAS reduction
     # min/max are NaN if any element is: the comparisons then fail as they should
     if norm2.size and norm2.min() >= _NORM2_LO and norm2.max() <= _NORM2_HI:
         return

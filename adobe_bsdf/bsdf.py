@@ -49,34 +49,42 @@ def _like(part: np.ndarray, n: int) -> np.ndarray:
     return np.empty((n, *part.shape[1:]), dtype=part.dtype)
 
 
-#: compact a batch onto a lobe's support when at most this share of the pairs lies in it
-COMPACT_SHARE = 0.75
+def on_support(kernel, inside, wo, wi, compact: bool = True):
+    """``kernel(wo, wi, up)`` evaluated only where ``inside`` (a lobe's support), zero
+    elsewhere; the same values as running it everywhere and masking.
 
-
-def on_support(kernel, inside, wo, wi):
-    """``kernel(wo, wi)`` evaluated only where ``inside`` (a one-sided lobe's support),
-    zero elsewhere; the same values as running it everywhere and masking.
-
-    Compacts 2-D batches ``(n, 3)`` when at most ``COMPACT_SHARE`` of the pairs are inside
-    (the gathers cost less than the work saved), else calls ``kernel`` on everything.
-    ``kernel`` returns an array or a tuple of arrays with the batch as first axis and must
-    itself give 0 outside ``inside``.
+    With ``compact`` (the lobe's parameters are scalars) and 2-D batches ``(n, 3)``, the pairs
+    inside are gathered and the kernel runs on them alone with ``up = None``: it may then
+    skip every test of the support. Otherwise it runs on the whole batch with ``up = inside``
+    and must itself give 0 where ``up`` is False. ``kernel`` returns an array or a tuple of
+    arrays with the batch as first axis.
     """
-    if wo.ndim != 2 or wi.ndim != 2 or wo.shape != wi.shape:
-        return kernel(wo, wi)
-    count = np.count_nonzero(inside)
-    if count > COMPACT_SHARE * len(inside):
-        return kernel(wo, wi)
+    if not compact or wo.ndim != 2 or wi.ndim != 2 or wo.shape != wi.shape:
+        return kernel(wo, wi, inside)
+    n = len(inside)
     index = np.flatnonzero(inside)
-    result = kernel(wo[index], wi[index])
+    if len(index) == n:
+        return kernel(wo, wi, None)
+    result = kernel(np.take(wo, index, axis=0), np.take(wi, index, axis=0), None)
     parts = result if isinstance(result, tuple) else (result,)
-    out = []
-    for p in parts:
-        o = _like(p, len(inside))
-        o[...] = 0
-        o[index] = p
-        out.append(o)
-    return tuple(out) if isinstance(result, tuple) else out[0]
+    out = tuple(_scatter(p, index, n) for p in parts)
+    return out if isinstance(result, tuple) else out[0]
+
+
+def _scatter(part: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:
+    """``part`` placed at rows ``index`` of a zero array of ``n`` rows (per channel, in the
+    memory order of ``_like``)."""
+    out = _like(part, n)
+    if part.ndim == 2 and out.strides[0] < out.strides[1]:
+        out_t, part_t = out.T, part.T
+        for c in range(part.shape[1]):
+            row = out_t[c]
+            row.fill(0.0)
+            row[index] = part_t[c]
+    else:
+        out.fill(0)
+        out[index] = part
+    return out
 
 
 class Flags(enum.IntFlag):

@@ -159,6 +159,7 @@ def _conductor_cos2(c2, A, B, matched) -> np.ndarray:
     """
     c2 = np.asarray(c2, dtype=np.float64)
     s2 = 1.0 - c2
+    two_c2, s4 = 2.0 * c2, s2 * s2  # shared by the channels
     if np.ndim(A) == 1:  # one interface: a channel at a time with scalar constants
         if c2.ndim == 0:  # (in-place operations need arrays)
             return _conductor_cos2(c2[None], A, B, matched)[0]
@@ -167,20 +168,22 @@ def _conductor_cos2(c2, A, B, matched) -> np.ndarray:
             if matched[ch]:
                 out[ch] = 0.0
             else:
-                _conductor_channel(c2, s2, A[ch].item(), B[ch].item(), out=out[ch, ...])
+                _conductor_channel(c2, s2, two_c2, s4, A[ch].item(), B[ch].item(),
+                                   out=out[ch, ...])
         return np.moveaxis(out, 0, -1)
     ndim = max(c2.ndim, np.ndim(A) - 1)
     A, B, matched = (_channel_major(x, ndim) for x in (A, B, matched))
     with np.errstate(divide="ignore", invalid="ignore"):
-        R = _conductor_channel(c2, s2, A, B)
+        R = _conductor_channel(c2, s2, two_c2, s4, A, B)
     return np.moveaxis(np.where(matched, 0.0, R), 0, -1)
 
 
-def _conductor_channel(c2, s2, A, B, out=None):
-    """One channel (or channel-major channels) of the exact conductor reflectance.
+def _conductor_channel(c2, s2, two_c2, s4, A, B, out=None):
+    """One channel (or channel-major channels) of the exact conductor reflectance, from
+    c^2, s^2 = 1 - c^2, 2 c^2 and s^4.
 
-    With s^2 = 1 - c^2 and n c_t = a + i b (a, b >= 0): t0 = A - s^2,
-    a^2 + b^2 = t1 = sqrt(t0^2 + B), a^2 = (t1 + t0) / 2, and
+    With n c_t = a + i b (a, b >= 0): t0 = A - s^2, a^2 + b^2 = t1 = sqrt(t0^2 + B),
+    a^2 = (t1 + t0) / 2, and
 
         R_s = (t1 + c^2 - 2 a c) / (t1 + c^2 + 2 a c)
         R_p = R_s (t1 c^2 - 2 a c s^2 + s^4) / (t1 c^2 + 2 a c s^2 + s^4),
@@ -194,13 +197,13 @@ def _conductor_channel(c2, s2, A, B, out=None):
     t1 += B
     np.sqrt(t1, out=t1)
     ac2 = t1 + t0  # 2 a^2, then 2 a c
-    ac2 *= 2.0 * c2
+    ac2 *= two_c2
     np.sqrt(ac2, out=ac2)
     p = t1 + c2
     num_s = p - ac2
     p += ac2  # den_s
     q = t1 * c2
-    q += s2 * s2
+    q += s4
     ac2 *= s2  # 2 a c s^2
     ac2 += q  # den_p
     ac2 *= p

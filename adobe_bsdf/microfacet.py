@@ -81,6 +81,7 @@ class GGX:
         # safe alphas for the divisions below (the smooth elements are masked afterwards)
         self._ax = np.where(self.smooth, 1.0, self.alpha_x)
         self._ay = np.where(self.smooth, 1.0, self.alpha_y)
+        self._pi_ax_ay = np.pi * self._ax * self._ay
 
     def __repr__(self) -> str:
         return f"GGX(alpha_x={self.alpha_x}, alpha_y={self.alpha_y}, masking={self.masking!r})"
@@ -177,10 +178,11 @@ class GGX:
         s += abs_z * abs_z
         return np.sqrt(s, out=s if isinstance(s, np.ndarray) else None)
 
-    def D_of_sum(self, hx, hy, hz, length2):
+    def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
         """D(h / |h|) of an unnormalised h with |h|^2 = ``length2`` (eq. 33 of Walter et al.
         2007 rewritten: D = |h|^4 / (pi ax ay Q^2), Q = (hx/ax)^2 + (hy/ay)^2 + hz^2);
-        0 where hz <= 0. Inf or NaN where h = 0 (the caller masks those)."""
+        0 where hz <= 0 unless ``upper`` (the caller knows hz > 0, or masks). Inf or NaN
+        where h = 0 (the caller masks those)."""
         q = hx / self._ax
         q *= q
         t = hy / self._ay
@@ -188,8 +190,9 @@ class GGX:
         q += t
         q += hz * hz
         q *= q
-        q *= np.pi * self._ax * self._ay
-        return np.where(hz > 0.0, length2 * length2 / q, 0.0)
+        q *= self._pi_ax_ay
+        D = np.divide(length2 * length2, q)
+        return D if upper else np.where(hz > 0.0, D, 0.0)
 
     def V_of(self, abs_zo, s_o, abs_zi, s_i):
         """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``)."""

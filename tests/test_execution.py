@@ -73,3 +73,27 @@ def test_options_are_validated_and_scoped():
     with config.options(threads=1, chunk_size=100) as inside:
         assert config.get_options() == inside
     assert config.get_options() == before
+
+
+@pytest.mark.parametrize("make", [
+    lambda a: ab.lobes.Conductor(a, 0.5 * a),
+    lambda a: ab.lobes.Conductor(a, fresnel=ab.fresnel.ExactConductor(
+        eta=(0.143, 0.374, 1.442), k=(3.983, 2.385, 1.603))),
+    lambda a: ab.lobes.Dielectric(1.0 + a, a),
+    lambda a: ab.lobes.Dielectric(1.0 / (1.0 + a), a, 0.3 * a),
+], ids=["conductor", "gold", "dielectric", "dielectric-inside"])
+def test_parameter_texture_matches_scalar_lobes(make):
+    """A lobe whose parameters are arrays over the batch (a texture) gives, pair by pair, the
+    values of the lobe with those parameters as scalars (the batch is not compacted or
+    chunked against the parameters)."""
+    wo, wi, _ = _inputs(seed=3)
+    n = 64
+    wo, wi = wo[:n], wi[:n]
+    wo[:, 2] = np.abs(wo[:, 2])
+    alpha = np.linspace(0.0, 1.0, n)  # includes a smooth element
+    lobe = make(alpha)
+    f, p = lobe.eval(wo, wi), lobe.pdf(wo, wi)
+    for j in range(n):
+        one = make(alpha[j])
+        np.testing.assert_allclose(f[j], one.eval(wo[j], wi[j]), rtol=1e-13, atol=0)
+        np.testing.assert_allclose(p[j], one.pdf(wo[j], wi[j]), rtol=1e-13, atol=0)

@@ -74,65 +74,73 @@ class Conductor(Lobe):
         return value if value.shape == shape else np.broadcast_to(value, shape)
 
     # -- eval and pdf share the half vector, D(h) and S(wo) --------------------------------
-    def _half(self, wo, wi):
-        """(up, D(h), |wo + wi|^2, S(wo)) with h = (wo + wi) / |wo + wi|; wo.h = |wo + wi| / 2,
-        symmetric in (wo, wi) bit for bit (exact reciprocity). Call under ``np.errstate``:
-        pairs that are not both above may divide by zero; they are masked by ``up``."""
+    def _half(self, wo, wi, up):
+        """(D(h), |wo + wi|^2, S(wo)) with h = (wo + wi) / |wo + wi|; wo.h = |wo + wi| / 2,
+        symmetric in (wo, wi) bit for bit (exact reciprocity). ``up``: the support mask, or
+        None where every pair is in it (``on_support``). Call under ``np.errstate``: pairs
+        outside the support may divide by zero; they are masked by ``up``."""
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
-        hx, hy, hz = ox + wi[..., 0], oy + wi[..., 1], oz + wi[..., 2]
-        up = self._support(wo, wi)
-        if np.any(d.smooth):
-            up = up & ~d.smooth
+        hx = ox + wi[..., 0]
+        hy = oy + wi[..., 1]
+        hz = oz + wi[..., 2]
         length2 = hx * hx
         length2 += hy * hy
         length2 += hz * hz
-        return up, d.D_of_sum(hx, hy, hz, length2), length2, d.projected(ox, oy, oz)
+        D = d.D_of_sum(hx, hy, hz, length2, upper=up is None)
+        return D, length2, d.projected(ox, oy, oz)
 
     def _f(self, wo, wi, up, D, length2, s_o):
+        """f = F D V (``GGX.V_of``), 0 outside ``up``."""
         d = self.distribution
         iz = wi[..., 2]
-        D *= d.V_of(wo[..., 2], s_o, iz, d.projected(wi[..., 0], wi[..., 1], iz))
-        DV = np.where(up, D, 0.0)[..., None]
+        DV = D * d.V_of(wo[..., 2], s_o, iz, d.projected(wi[..., 0], wi[..., 1], iz))
+        if up is not None:
+            DV = np.where(up, DV, 0.0)
         F = self._F2(0.25 * length2)
         if F is None:
-            return np.repeat(DV, 3, axis=-1)
-        if F.flags.writeable and F.shape == DV.shape[:-1] + (3,):
-            F *= DV
+            return np.repeat(DV[..., None], 3, axis=-1)
+        if F.flags.writeable and F.shape == DV.shape + (3,):
+            F *= DV[..., None]
             return F
-        return F * DV
+        return F * DV[..., None]
 
     @staticmethod
     def _p(wo, up, D, s_o):
-        """pdf = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3)."""
-        return np.where(up, D / (2.0 * (wo[..., 2] + s_o)), 0.0)
+        """pdf = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3),
+        0 outside ``up``."""
+        pdf = D / (2.0 * (wo[..., 2] + s_o))
+        return pdf if up is None else np.where(up, pdf, 0.0)
 
     def _eval(self, wo, wi):
-        return on_support(self._eval_kernel, self._support(wo, wi), wo, wi)
+        return self._on_support(self._eval_kernel, wo, wi)
 
     def _pdf(self, wo, wi):
-        return on_support(self._pdf_kernel, self._support(wo, wi), wo, wi)
+        return self._on_support(self._pdf_kernel, wo, wi)
 
     def _eval_pdf(self, wo, wi):
-        return on_support(self._eval_pdf_kernel, self._support(wo, wi), wo, wi)
+        return self._on_support(self._eval_pdf_kernel, wo, wi)
 
-    @staticmethod
-    def _support(wo, wi):
-        return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
+    def _on_support(self, kernel, wo, wi):
+        """``kernel`` on the pairs with both directions above a rough surface only."""
+        inside = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
+        if np.any(self.distribution.smooth):
+            inside &= ~self.distribution.smooth
+        return on_support(kernel, inside, wo, wi, compact=self._param_shape() == ())
 
-    def _eval_kernel(self, wo, wi):
+    def _eval_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore"):
-            up, D, length2, s_o = self._half(wo, wi)
+            D, length2, s_o = self._half(wo, wi, up)
             return self._f(wo, wi, up, D, length2, s_o)
 
-    def _pdf_kernel(self, wo, wi):
+    def _pdf_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore"):
-            up, D, _, s_o = self._half(wo, wi)
+            D, _, s_o = self._half(wo, wi, up)
             return self._p(wo, up, D, s_o)
 
-    def _eval_pdf_kernel(self, wo, wi):
+    def _eval_pdf_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore"):
-            up, D, length2, s_o = self._half(wo, wi)
+            D, length2, s_o = self._half(wo, wi, up)
             pdf = self._p(wo, up, D, s_o)
             return self._f(wo, wi, up, D, length2, s_o), pdf
 
