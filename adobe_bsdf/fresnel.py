@@ -97,10 +97,17 @@ def _dielectric_k(c, k, eta2) -> np.ndarray:
     numerators rewritten free of cancellation, r_s = -k / (c + eta c_t)^2 and
     r_p = k (c^2 (eta^2 + 1) - 1) / (eta^2 (eta c + c_t)^2), accurate as eta -> 1.
     """
+    scalar = np.ndim(k) == 0
+    if scalar and k == 0.0:  # index-matched: no interface
+        return np.zeros(np.shape(c))
     c2 = c * c
     e2 = k + c2
-    tir = e2 <= 0.0
-    eta_cos_t = np.sqrt(np.maximum(e2, 0.0))
+    if scalar and k > 0.0:  # seen from the less dense side: no total internal reflection
+        tir = None
+        eta_cos_t = np.sqrt(e2)
+    else:
+        tir = e2 <= 0.0
+        eta_cos_t = np.sqrt(np.maximum(e2, 0.0))
     den_s = c + eta_cos_t
     den_s *= den_s
     den_p = eta2 * c + eta_cos_t  # eta (eta c + c_t)
@@ -111,6 +118,8 @@ def _dielectric_k(c, k, eta2) -> np.ndarray:
     R = r_s * r_s
     R += r_p * r_p
     R *= 0.5
+    if scalar:
+        return R if tir is None else np.where(tir, 1.0, R)
     return np.where(k == 0.0, 0.0, np.where(tir, 1.0, R))
 
 

@@ -167,6 +167,20 @@ class GGX:
         """Batch shape of the alphas."""
         return self.alpha_x.shape
 
+    _ARRAYS = ("alpha_x", "alpha_y", "smooth", "_ax", "_ay", "_pi_ax_ay")
+
+    def take(self, shape: tuple, index) -> GGX:
+        """The distribution at the elements ``index`` of its parameters broadcast to
+        ``shape`` and flattened; ``self`` if the parameters are scalars."""
+        if self.param_shape == ():
+            return self
+        part = object.__new__(GGX)
+        part.masking = self.masking
+        for name in self._ARRAYS:
+            value = np.broadcast_to(getattr(self, name), shape).reshape(-1)
+            setattr(part, name, value[index])
+        return part
+
     def projected(self, x, y, abs_z):
         """S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) from the components of w (|wz| given),
         so that Lambda(w) = (S / |wz| - 1) / 2 (Heitz 2014 eq. 86)."""

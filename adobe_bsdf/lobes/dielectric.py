@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from adobe_bsdf import _params
@@ -18,6 +20,25 @@ def _mirror_z(w, s):
     """Mirror ``w`` through the tangent plane where ``s < 0`` (s = +-1, shape (...))."""
     return np.concatenate([w[..., :2] * np.ones_like(s)[..., None], (w[..., 2] * s)[..., None]],
                           axis=-1)
+
+
+def _seen_from(eta, side):
+    """Fresnel constants (k = eta_rel^2 - 1, eta_rel^2) of the interface of relative index
+    ``eta`` = n_below / n_above seen from the side ``side`` (+1 above, -1 below), each
+    formed from the two indices (``fresnel._k_of_indices``)."""
+    if side > 0.0:
+        return _k_of_indices(eta, 1.0), eta * eta
+    return _k_of_indices(1.0, eta), 1.0 / (eta * eta)
+
+
+def _light_side(eta, side):
+    """(Fresnel constants seen from the less dense side, whether ``side`` is that side)."""
+    dense = eta >= 1.0
+    if np.ndim(eta) == 0:
+        return _seen_from(eta, 1.0 if dense else -1.0), (side > 0.0) == dense
+    above, below = _seen_from(eta, 1.0), _seen_from(eta, -1.0)
+    return (tuple(np.where(dense, a, b) for a, b in zip(above, below, strict=True)),
+            (side > 0.0) == dense)
 
 
 class Dielectric(Lobe):
@@ -58,116 +79,133 @@ class Dielectric(Lobe):
         return (f"Dielectric(eta={self.eta}, alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
                 f"masking={d.masking!r})")
 
-    def _fresnel_constants(self):
-        """k = eta^2 - 1 and eta^2 of the interface seen from above, from below, and from
-        the less dense side (where refraction's F is evaluated), each formed from the two
-        indices (``fresnel._k_of_indices``)."""
-        above = (_k_of_indices(self.eta, 1.0), self.eta * self.eta)
-        below = (_k_of_indices(1.0, self.eta), 1.0 / (self.eta * self.eta))
-        dense = self.eta >= 1.0
-        light = tuple(np.where(dense, a, b) for a, b in zip(above, below, strict=True))
-        return above, below, light
-
-    def _F_from_light_side(self, cos_light):
-        """F seen from the less dense side (no total internal reflection there)."""
-        _, _, (k, eta2) = self._fresnel_constants()
-        return _dielectric_k(cos_light, k, eta2)
-
-    def _on_light_side(self, side):
-        """Whether the side ``side`` (+1 above, -1 below) is the less dense one."""
-        return (side > 0.0) == (self.eta >= 1.0)
-
     def _param_shape(self):
         return np.broadcast_shapes(self.eta.shape, self.distribution.param_shape)
 
-    # -- geometry shared by eval and pdf --------------------------------------------------
-    def _terms(self, wo, wi):
-        """Everything eval and pdf need, computed on components in the frame where ``wo``
-        is above (z mirrored where it is not). Call under ``np.errstate``.
+    # -- eval and pdf: the pairs in four groups, each with its side's constants ----------
+    def _eval(self, wo, wi):
+        return self._grouped(wo, wi, True, False)[0]
+
+    def _pdf(self, wo, wi):
+        return self._grouped(wo, wi, False, True)[1]
+
+    def _eval_pdf(self, wo, wi):
+        return self._grouped(wo, wi, True, True)
+
+    def _grouped(self, wo, wi, want_f: bool, want_pdf: bool):
+        """``(f (..., 3) or None, pdf (...) or None)``.
+
+        The pairs fall into four groups by the side of ``wo`` and by reflection (``wi`` on
+        the same side) or refraction (the other side); pairs with a direction in the
+        tangent plane are 0. Each group is gathered and evaluated in the frame where ``wo``
+        is above (z mirrored below), with the indices and Fresnel constants of its side as
+        scalars when the lobe's parameters are scalars (else gathered with the pairs).
+        """
+        batch = np.broadcast_shapes(wo.shape[:-1], wi.shape[:-1], self._param_shape())
+        n = math.prod(batch)
+        wo = np.broadcast_to(wo, batch + (3,)).reshape(n, 3)
+        wi = np.broadcast_to(wi, batch + (3,)).reshape(n, 3)
+        f = np.zeros(n) if want_f else None
+        pdf = np.zeros(n) if want_pdf else None
+        scalar = self._param_shape() == ()
+        if not (scalar and (self.eta == 1.0 or self.distribution.smooth)):
+            oz, iz = wo[:, 2], wi[:, 2]
+            o_up, i_up, i_down = oz > 0.0, iz > 0.0, iz < 0.0
+            o_down = oz < 0.0
+            groups = [(1.0, o_up & i_up, True), (1.0, o_up & i_down, False)]
+            if o_down.any():
+                groups += [(-1.0, o_down & i_down, True), (-1.0, o_down & i_up, False)]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                for side, mask, reflection in groups:
+                    index = np.flatnonzero(mask)
+                    if len(index):
+                        self._group(wo, wi, batch, index, side, reflection, f, pdf)
+        if f is not None:
+            f = np.broadcast_to(f.reshape(batch)[..., None], batch + (3,))
+        return f, None if pdf is None else pdf.reshape(batch)
+
+    def _group(self, wo, wi, batch, index, side, reflection, f, pdf):
+        """Write f and pdf of the pairs ``index`` (``wo`` on the side ``side``: +1 above,
+        -1 below; reflection or refraction) into ``f`` and ``pdf`` (None: not wanted).
 
         The indices of the two sides are kept apart (eta_o on the side of ``wo``, eta_i on
         the other) rather than as a ratio, so that f(wo, wi) and f(wi, wo) run through
         bitwise the same arithmetic: near eta = 1 the ratio 1/eta would carry a rounding
-        error that the transmission denominator amplifies by 1 / |eta - 1|. The half vector
-        is h = wo + wi for reflection and -(eta_o wo + eta_i wi) for transmission,
-        unnormalised; h / |h| is turned to the upper side.
-
-        Returns (valid, reflection, F, D(h), S(wo), T) with T = 4 (wo.h) |wi.h| (1 - F) /
-        (eta_o wo.h + eta_i wi.h)^2 and eta_o, eta_i.
+        error that the transmission denominator amplifies by 1 / |eta - 1|.
         """
-        d = self.distribution
-        ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
-        ix, iy, iz = wi[..., 0], wi[..., 1], wi[..., 2]
-        below = oz < 0.0
-        zo = np.abs(oz)
-        zi = np.where(below, -iz, iz)
-        eta_o = np.where(below, self.eta, 1.0)
-        eta_i = np.where(below, 1.0, self.eta)
-        reflection = zi > 0.0
-        a = np.where(reflection, 1.0, -eta_o)
-        b = np.where(reflection, 1.0, -eta_i)
-        hx = a * ox
-        hx += b * ix
-        hy = a * oy
-        hy += b * iy
-        hz = a * zo
-        hz += b * zi
+        d = self.distribution.take(batch, index)
+        eta = self.eta if self.eta.ndim == 0 else np.broadcast_to(
+            self.eta, batch).reshape(-1)[index]
+        wo, wi = np.take(wo, index, axis=0), np.take(wi, index, axis=0)
+        if side < 0.0:
+            wo[:, 2] *= -1.0
+            wi[:, 2] *= -1.0
+        ox, oy, zo = wo[:, 0], wo[:, 1], wo[:, 2]
+        ix, iy, zi = wi[:, 0], wi[:, 1], wi[:, 2]
+        s_o = d.projected(ox, oy, zo)
+        if reflection:
+            value, P = self._reflect(d, eta, side, ox, oy, zo, ix, iy, zi, s_o)
+        else:
+            value, P = self._refract(d, eta, side, ox, oy, zo, ix, iy, zi, s_o,
+                                     f is not None, pdf is not None)
+        if d.smooth.ndim or self.eta.ndim:  # a texture: smooth or index-matched elements
+            off = d.smooth | (eta == 1.0)
+            value = [None if v is None else np.where(off, 0.0, v) for v in value]
+        if f is not None:
+            f[index] = value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi))
+        if pdf is not None:
+            pdf[index] = P * value[1]
+
+    @staticmethod
+    def _reflect(d, eta, side, ox, oy, zo, ix, iy, zi, s_o):
+        """Reflection (both directions above, after mirroring): ``([F D, F], P)`` with
+        h = wo + wi, F at wo.h = |wo + wi| / 2 (bitwise symmetric in wo, wi) from the side
+        of ``wo`` (total internal reflection included) and P = D_wo(h) / (4 wo.h) =
+        D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3)."""
+        hx = ox + ix
+        hy = oy + iy
+        hz = zo + zi
         length2 = hx * hx
         length2 += hy * hy
         length2 += hz * hz
-        length = np.sqrt(length2)
-        inv = np.where(hz < 0.0, -1.0, 1.0) / length
-        cos_oh = (ox * hx + oy * hy + zo * hz) * inv
-        cos_ih = (ix * hx + iy * hy + zi * hz) * inv
-        # facets must face wo (and, for refraction, be seen from below by wi)
-        valid = (zo > 0.0) & (cos_oh > 0.0) & (self.eta != 1.0)
-        valid &= np.where(reflection, cos_ih > 0.0, (cos_ih < 0.0) & (zi < 0.0))
-        if np.any(d.smooth):
-            valid = valid & ~d.smooth
-        # The Fresnel term is ill-conditioned near eta = 1 and, seen from the denser side,
-        # near the critical angle. So that it is bitwise the same for (wo, wi) and (wi, wo),
-        # and matches the sampler, reflection uses wo.h = wi.h = |wo + wi| / 2 and refraction
-        # the cosine on the less dense side (Stokes: the same value as from the other side;
-        # there F is smooth, with no total-internal-reflection edge).
-        light = self._on_light_side(np.where(below, -1.0, 1.0))
-        cos_F = np.where(reflection, 0.5 * length, np.abs(np.where(light, cos_oh, cos_ih)))
-        (k_a, eta2_a), (k_b, eta2_b), (k_l, eta2_l) = self._fresnel_constants()
-        F = _dielectric_k(cos_F, np.where(reflection, np.where(below, k_b, k_a), k_l),
-                          np.where(reflection, np.where(below, eta2_b, eta2_a), eta2_l))
+        k, eta2 = _seen_from(eta, side)
+        F = _dielectric_k(0.5 * np.sqrt(length2), k, eta2)
+        D = d.D_of_sum(hx, hy, hz, length2, upper=True)
+        return [F * D, F], D / (2.0 * (zo + s_o))
+
+    def _refract(self, d, eta, side, ox, oy, zo, ix, iy, zi, s_o, want_f, want_pdf):
+        """Refraction (``wo`` above, ``wi`` below, after mirroring): ``([eta_o^2 T D,
+        eta_i^2 T], P)`` with the generalized half vector h = -(eta_o wo + eta_i wi) turned
+        up, T = 4 (wo.h) |wi.h| (1 - F) / (eta_o wo.h + eta_i wi.h)^2 and F at the cosine on
+        the less dense side (Stokes: the same value as from the other side; there F is
+        smooth, with no total-internal-reflection edge). Facets must face ``wo`` and be
+        seen from below by ``wi``."""
+        eta_o, eta_i = (1.0, eta) if side > 0.0 else (eta, 1.0)
+        hx = -eta_o * ox
+        hx -= eta_i * ix
+        hy = -eta_o * oy
+        hy -= eta_i * iy
+        hz = -eta_o * zo
+        hz -= eta_i * zi
+        length2 = hx * hx
+        length2 += hy * hy
+        length2 += hz * hz
+        inv = np.copysign(1.0 / np.sqrt(length2), hz)  # h turned up (sign of 0 irrelevant)
+        cos_oh = ox * hx + oy * hy + zo * hz
+        cos_oh *= inv
+        cos_ih = ix * hx + iy * hy + zi * hz
+        cos_ih *= inv
+        (k, eta2), light = _light_side(eta, side)
+        F = _dielectric_k(np.abs(np.where(light, cos_oh, cos_ih)) if np.ndim(light)
+                          else np.abs(cos_oh if light else cos_ih), k, eta2)
         den_t = eta_o * cos_oh
         den_t += eta_i * cos_ih
         T = 4.0 * cos_oh * np.abs(cos_ih) * (1.0 - F) / (den_t * den_t)
+        valid = (cos_oh > 0.0) & (cos_ih < 0.0)
+        T = np.where(valid, T, 0.0)
         D = d.D_of_sum(hx, hy, np.abs(hz), length2)
-        return valid, reflection, F, D, d.projected(ox, oy, zo), T, zi, eta_o, eta_i
-
-    def _f(self, wo, wi, valid, reflection, F, D, s_o, T, zi, eta_o):
-        d = self.distribution
-        V = d.V_of(np.abs(wo[..., 2]), s_o, np.abs(zi), d.projected(wi[..., 0], wi[..., 1], zi))
-        f = np.where(valid, np.where(reflection, F, eta_o * eta_o * T) * D * V, 0.0)
-        return np.broadcast_to(f[..., None], f.shape + (3,))
-
-    @staticmethod
-    def _p(wo, valid, reflection, F, D, s_o, T, eta_i):
-        """pdf_r = F D_wo(h) / (4 wo.h), pdf_t = (1 - F) D_wo(h) eta_i^2 |wi.h| / den_t^2
-        with D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3)."""
-        P = D / (2.0 * (np.abs(wo[..., 2]) + s_o))
-        return np.where(valid, P * np.where(reflection, F, eta_i * eta_i * T), 0.0)
-
-    def _eval(self, wo, wi):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            valid, reflection, F, D, s_o, T, zi, eta_o, _ = self._terms(wo, wi)
-            return self._f(wo, wi, valid, reflection, F, D, s_o, T, zi, eta_o)
-
-    def _pdf(self, wo, wi):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            valid, reflection, F, D, s_o, T, _, _, eta_i = self._terms(wo, wi)
-            return self._p(wo, valid, reflection, F, D, s_o, T, eta_i)
-
-    def _eval_pdf(self, wo, wi):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            valid, reflection, F, D, s_o, T, zi, eta_o, eta_i = self._terms(wo, wi)
-            return (self._f(wo, wi, valid, reflection, F, D, s_o, T, zi, eta_o),
-                    self._p(wo, valid, reflection, F, D, s_o, T, eta_i))
+        return [eta_o * eta_o * T * D if want_f else None,
+                eta_i * eta_i * T if want_pdf else None], D / (2.0 * (zo + s_o))
 
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
@@ -196,8 +234,8 @@ class Dielectric(Lobe):
         refracted = sin2_t < 1.0
         cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))  # |wt.m|
         # F as _terms computes it: from the less dense side (TIR where nothing refracts)
-        light = self._on_light_side(np.where(below, -1.0, 1.0))
-        F = np.where(refracted, self._F_from_light_side(np.where(light, cos_om, cos_t)), 1.0)
+        (k, eta2), light = _light_side(self.eta, np.where(below, -1.0, 1.0))
+        F = np.where(refracted, _dielectric_k(np.where(light, cos_om, cos_t), k, eta2), 1.0)
         choose_r = u[..., 0] < F
         # wi = a m - b wo: reflection 2 (wo.m) m - wo, refraction (cos_om / eta - cos_t) m
         # - wo / eta
