@@ -43,8 +43,9 @@ def _pair(wo, wi):
 
 def _like(part: np.ndarray, n: int) -> np.ndarray:
     """An output for ``n`` elements shaped as the chunk result ``part``, channel-major in
-    memory if ``part`` is (the copy of each chunk is then contiguous)."""
-    if part.ndim == 2 and 0 < part.strides[0] < part.strides[1]:
+    memory if ``part`` is, or is one channel broadcast (the copy of each chunk then runs
+    along contiguous memory)."""
+    if part.ndim == 2 and (0 < part.strides[0] < part.strides[1] or part.strides[1] == 0):
         return np.empty((part.shape[1], n), dtype=part.dtype).T
     return np.empty((n, *part.shape[1:]), dtype=part.dtype)
 

@@ -111,14 +111,34 @@ def _pool(threads: int) -> ThreadPoolExecutor:
 def map_chunks(fn, n: int) -> None:
     """Call ``fn(start, stop)`` for consecutive chunks covering ``range(n)``.
 
-    The chunks are the same whatever the number of threads; with more than one thread (and
-    more than one chunk) they run on a shared pool. The first exception is re-raised.
+    The chunks are the same whatever the number of threads. With ``threads`` = T > 1 (and
+    more than one chunk), worker j of T takes chunks j, j + T, j + 2T, ...: the calling
+    thread is worker 0, the others run on a shared pool (one task per worker, not per chunk:
+    every hand-over between threads costs a wake-up). The first exception is re-raised once
+    every worker has stopped.
     """
     opts = get_options()
     bounds = [(s, min(s + opts.chunk_size, n)) for s in range(0, n, opts.chunk_size)]
-    if opts.threads == 1 or len(bounds) == 1:
+    workers = min(opts.threads, len(bounds))
+    if workers == 1:
         for start, stop in bounds:
             fn(start, stop)
         return
-    for future in [_pool(opts.threads).submit(fn, *b) for b in bounds]:
-        future.result()
+
+    def work(j):
+        for start, stop in bounds[j::workers]:
+            fn(start, stop)
+
+    futures = [_pool(workers - 1).submit(work, j) for j in range(1, workers)]
+    error = None
+    try:
+        work(0)
+    except BaseException as exc:  # re-raised after the other workers stop
+        error = exc
+    for future in futures:
+        try:
+            future.result()
+        except BaseException as exc:
+            error = error or exc
+    if error is not None:
+        raise error

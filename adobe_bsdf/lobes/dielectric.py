@@ -111,10 +111,12 @@ class Dielectric(Lobe):
         if not (scalar and (self.eta == 1.0 or self.distribution.smooth)):
             oz, iz = wo[:, 2], wi[:, 2]
             o_up, i_up, i_down = oz > 0.0, iz > 0.0, iz < 0.0
-            o_down = oz < 0.0
-            groups = [(1.0, o_up & i_up, True), (1.0, o_up & i_down, False)]
-            if o_down.any():
-                groups += [(-1.0, o_down & i_down, True), (-1.0, o_down & i_up, False)]
+            if o_up.all():  # (as in a renderer's batches) no pair needs the other side
+                groups = [(1.0, i_up, True), (1.0, i_down, False)]
+            else:
+                o_down = oz < 0.0
+                groups = [(1.0, o_up & i_up, True), (1.0, o_up & i_down, False),
+                          (-1.0, o_down & i_down, True), (-1.0, o_down & i_up, False)]
             with np.errstate(divide="ignore", invalid="ignore"):
                 for side, mask, reflection in groups:
                     index = np.flatnonzero(mask)
