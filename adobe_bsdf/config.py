@@ -28,10 +28,10 @@ from adobe_bsdf import _params
 
 __all__ = ["Options", "get_options", "set_options", "options", "map_chunks"]
 
-#: elements per chunk: a float64 temporary (125 KiB) stays below glibc's 128 KiB mmap threshold
-#: (larger ones are mapped and page-faulted afresh on every call) and the per-call overhead of
-#: NumPy is spread over many elements (docs/execution.md)
-DEFAULT_CHUNK_SIZE = 16000
+#: elements per chunk: each NumPy call of a kernel then runs long enough (tens of
+#: microseconds) that the hand-over of the interpreter lock between threads costs little, and
+#: a chunk's temporaries still fit the L2/L3 caches (the sweep in docs/performance.md)
+DEFAULT_CHUNK_SIZE = 65536
 
 
 def _default_threads() -> int:

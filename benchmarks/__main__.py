@@ -6,6 +6,10 @@ Sections (each in its module; a failing section is recorded, not fatal):
   1 thread and all threads (``benchmarks.throughput.headline``);
 * ``mitsuba``: the same lobes in Mitsuba 3's ``llvm_ad_rgb`` variant, in a subprocess
   (``benchmarks.mitsuba_bench``);
+* ``baseline``: the headline on the library before the performance work, in a subprocess
+  (``benchmarks.baseline``);
+* ``chunks``: the headline ``eval`` as the chunk size varies, 1 thread and all threads, and
+  two processes on half the batch each (``benchmarks.chunks``);
 * ``throughput``: every registered case, 10^4 / 10^6 / 10^7 pairs (``benchmarks.throughput``);
 * ``active_lobes``: ``Sum`` cost against the number of non-zero weights
   (``benchmarks.active_lobes``);
@@ -26,10 +30,11 @@ import traceback
 from pathlib import Path
 
 import adobe_bsdf  # noqa: F401  (registers the lobes)
-from benchmarks import active_lobes, machine, mitsuba_bench, report
+from benchmarks import active_lobes, baseline, chunks, machine, mitsuba_bench, report
 from benchmarks import throughput as tp
 
-SECTIONS = ("headline", "mitsuba", "throughput", "active_lobes", "tradeoff")
+SECTIONS = ("headline", "mitsuba", "baseline", "chunks", "throughput", "active_lobes",
+            "tradeoff")
 
 
 def _log(message: str) -> None:
@@ -88,6 +93,8 @@ def main(argv=None) -> dict:
     runners = {
         "headline": lambda: tp.headline(wo, wi, u, smoke),
         "mitsuba": lambda: mitsuba_bench.run(wo[:ref], wi[:ref], u[:ref], smoke),
+        "baseline": lambda: baseline.run(smoke),
+        "chunks": lambda: chunks.run(smoke),
         "throughput": lambda: tp.run(wo, wi, u, smoke, args.extra_seconds, log=_log),
         "active_lobes": lambda: active_lobes.run(wo, wi, u, smoke),
         "tradeoff": lambda: _tradeoff(smoke),

@@ -230,6 +230,77 @@ def _headline(results: dict) -> list:
     return out
 
 
+#: targets of the headline eval: (largest NumPy / Mitsuba time ratio, largest memory passes)
+TARGETS = {"conductor": (10.0, 20.0), "dielectric": (15.0, None)}
+
+
+def _before_after(results: dict) -> list:
+    """The headline lobes before the performance work (``benchmarks.baseline``) and now."""
+    out = ["## Before and after", ""]
+    base = results.get("baseline")
+    failed = _failed(base)
+    if failed:
+        return out + [f"Baseline section {failed}", ""]
+    hl = results.get("headline")
+    if _failed(hl):
+        return out + ["Needs the headline section.", ""]
+    mi = _mitsuba_rows(results.get("mitsuba"))
+    add = hl["memory_pass_seconds"]
+    before = {(r["lobe"], r["call"]): r for r in base["headline"]["rows"] if "seconds" in r}
+    after = {(r["lobe"], r["call"], r["threads"]): r for r in hl["rows"] if "seconds" in r}
+    cpus = hl["threads"][0]
+    out += [f"*Before*: the library at commit {base['commit'][:12]} (\"{base['subject']}\", "
+            "the last commit before the performance work), timed by the same code in a "
+            "subprocess of this run (its default threading: it has no thread pool). *After*: "
+            f"this commit, all threads ({_threads(cpus)}) and 1 thread. {_n(hl['n'])} pairs; "
+            f"memory passes against this run's `np.add` ({_time(add)}); *× Mitsuba*: time / "
+            "Mitsuba's median time of the same call in this run.", "",
+            "| lobe | call | before | after, all threads | after, 1 thread | speed-up | "
+            "memory passes before → after | × Mitsuba before → after |",
+            "|---|---|---|---|---|---|---|---|"]
+    verdicts = []
+    for key in hl["labels"]:
+        for call in CALLS:
+            b, a = before.get((key, call)), after.get((key, call, cpus))
+            if a is None:
+                continue
+            a1 = after.get((key, call, 1)) if cpus != 1 else None
+            m = mi.get((key, call))
+            ratio = (lambda r: f"{r['seconds'] / m['median_seconds']:.1f}") if m else None
+            out.append(
+                f"| {key} | {call} | {_time(b['seconds']) if b else '–'} | "
+                f"{_time(a['seconds'])} | {_time(a1['seconds']) if a1 else '–'} | "
+                f"{b['seconds'] / a['seconds']:.2f} | " if b else
+                f"| {key} | {call} | – | {_time(a['seconds'])} | "
+                f"{_time(a1['seconds']) if a1 else '–'} | – | ")
+            out[-1] += (f"{b['seconds'] / add:.0f} → " if b else "– → ") + \
+                f"{a['seconds'] / add:.0f} | " + \
+                ((f"{ratio(b)} → " if b else "– → ") + f"{ratio(a)} |" if ratio else "– |")
+            if call == "eval" and key in TARGETS:
+                max_ratio, max_passes = TARGETS[key]
+                parts = []
+                if m:
+                    r = a["seconds"] / m["median_seconds"]
+                    parts.append(f"{r:.1f}× Mitsuba (target ≤ {max_ratio:g}×: "
+                                 f"{'met' if r <= max_ratio else 'not met'})")
+                if max_passes is not None:
+                    p = a["seconds"] / add
+                    parts.append(f"{p:.1f} memory passes (target ≤ {max_passes:g}: "
+                                 f"{'met' if p <= max_passes else 'not met'})")
+                verdicts.append(f"- {key} `eval`: " + "; ".join(parts))
+    return out + [""] + verdicts + [""]
+
+
+def _chunks(results: dict) -> list:
+    from benchmarks import chunks
+
+    out = ["## Chunk size and threads", ""]
+    failed = _failed(results.get("chunks"))
+    if failed:
+        return out + [f"Chunks section {failed}", ""]
+    return out + chunks.markdown(results["chunks"])
+
+
 def _mitsuba(results: dict) -> list:
     mi = results.get("mitsuba")
     out = ["## Mitsuba 3 reference", ""]
@@ -405,7 +476,8 @@ def markdown(results: dict, figure_dir: Path, link_prefix: str, smoke: bool) -> 
             if section and not _failed(section) and plot(plt, section, figure_dir / name):
                 figures[key] = f"{link_prefix}{name}"
     out = _header(results, plt is not None)
-    out += _headline(results) + _mitsuba(results) + _threads_table(results)
+    out += _headline(results) + _before_after(results) + _mitsuba(results)
+    out += _threads_table(results) + _chunks(results)
     out += _throughput(results, figures.get("throughput"))
     out += _active(results, figures.get("active_lobes"))
     out += _tradeoff(results, figure_dir, smoke)

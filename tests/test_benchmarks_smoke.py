@@ -94,6 +94,32 @@ def test_mitsuba_section_available_or_explained(smoke):
         assert all(v["max_relative_difference"] < 1e-3 for v in agreement.values())
 
 
+def test_baseline_before_after(smoke):
+    """The headline of the library before the performance work, timed in the same run."""
+    _, results, text = smoke
+    base = results["baseline"]
+    assert "error" not in base, base.get("error")
+    assert len(base["commit"]) == 40 and base["subject"]
+    rows = {(r["lobe"], r["call"]) for r in base["headline"]["rows"] if "seconds" in r}
+    assert {("conductor", "eval"), ("dielectric", "eval")} <= rows
+    for row in base["headline"]["rows"]:
+        _positive(row)
+    assert "## Before and after" in text and "conductor `eval`:" in text
+
+
+def test_chunks(smoke):
+    _, results, text = smoke
+    ch = results["chunks"]
+    assert "error" not in ch, ch.get("error")
+    assert {(r["chunk_size"], r["threads"], r["lobe"]) for r in ch["rows"]} == {
+        (size, t, key) for size in ch["sizes"] for t in ch["threads"]
+        for key in ("conductor", "dielectric")}
+    assert all(r["seconds"] > 0 for r in ch["rows"])
+    if ch["cpus"] > 1:
+        assert all(ch["two_processes"][key] > 0 for key in ("conductor", "dielectric"))
+    assert "## Chunk size and threads" in text
+
+
 def test_active_lobes(smoke):
     _, results, _ = smoke
     al = results["active_lobes"]
@@ -110,7 +136,8 @@ def test_active_lobes(smoke):
 def test_markdown_written(smoke):
     out, results, text = smoke
     assert text.startswith("<!-- written by python -m benchmarks; do not edit by hand -->")
-    for heading in ("## Headline", "## Mitsuba 3 reference", "## Threads",
+    for heading in ("## Headline", "## Before and after", "## Mitsuba 3 reference", "## Threads",
+                    "## Chunk size and threads",
                     "## Throughput of every registered case",
                     "## Cost against the number of active lobes", "## Speed versus accuracy"):
         assert heading in text
