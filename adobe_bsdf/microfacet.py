@@ -42,6 +42,17 @@ def _stack(x, y, z) -> np.ndarray:
     return np.stack(np.broadcast_arrays(x, y, z), axis=-1)
 
 
+def _normalize(x, y, z):
+    """(x, y, z) / |(x, y, z)| on components; ``x`` and ``y`` are scaled in place."""
+    inv = x * x
+    inv += y * y
+    inv += z * z
+    inv = 1.0 / np.sqrt(inv)
+    x *= inv
+    y *= inv
+    return x, y, z * inv
+
+
 def asm_alpha(roughness, anisotropy=0.0):
     """ASM anisotropic roughness: alpha_x = r^2 + a^4, alpha_y = r^2 (seed 000 eqs. 9-10).
 
@@ -258,27 +269,13 @@ class GGX:
         x *= sign
         y = ay * wy
         y *= sign
-        z = np.abs(wz)
-        inv = x * x
-        inv += y * y
-        inv += z * z
-        inv = 1.0 / np.sqrt(inv)
-        x *= inv
-        y *= inv
-        z = z * inv
+        x, y, z = _normalize(x, y, np.abs(wz))
         phi = 2.0 * np.pi * u0
         cz = (1.0 - u1) * (1.0 + z) - z
         sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
         mx = (sin_t * np.cos(phi) + x) * ax
         my = (sin_t * np.sin(phi) + y) * ay
-        mz = cz + z
-        inv = mx * mx
-        inv += my * my
-        inv += mz * mz
-        inv = 1.0 / np.sqrt(inv)
-        mx *= inv
-        my *= inv
-        mz *= inv
+        mx, my, mz = _normalize(mx, my, cz + z)
         if np.any(self.smooth):
             mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
                                                                    (1.0, mz)))

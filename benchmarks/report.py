@@ -73,6 +73,14 @@ def _failed(section) -> str | None:
     return None
 
 
+def _opening(title: str, label: str, section) -> tuple[list, list | None]:
+    """(the heading lines of a section, None), or (them, the lines that say why ``section``
+    is missing)."""
+    out = [f"## {title}", ""]
+    failed = _failed(section)
+    return out, (out + [f"{label} section {failed}", ""] if failed else None)
+
+
 def _clean(x):
     """JSON-safe copy: inf/nan -> None, tuples -> lists."""
     if isinstance(x, dict):
@@ -195,10 +203,9 @@ def _mitsuba_rows(mi: dict | None) -> dict:
 
 def _headline(results: dict) -> list:
     hl = results.get("headline")
-    out = ["## Headline", ""]
-    failed = _failed(hl)
-    if failed:
-        return out + [f"Headline section {failed}", ""]
+    out, missing = _opening("Headline", "Headline", hl)
+    if missing:
+        return missing
     mi = _mitsuba_rows(results.get("mitsuba"))
     rows = {(r["lobe"], r["call"], r["threads"]): r for r in hl["rows"]}
     calls = [c for c in CALLS if any(r["call"] == c for r in hl["rows"])]
@@ -294,19 +301,17 @@ def _before_after(results: dict) -> list:
 def _chunks(results: dict) -> list:
     from benchmarks import chunks
 
-    out = ["## Chunk size and threads", ""]
-    failed = _failed(results.get("chunks"))
-    if failed:
-        return out + [f"Chunks section {failed}", ""]
+    out, missing = _opening("Chunk size and threads", "Chunks", results.get("chunks"))
+    if missing:
+        return missing
     return out + chunks.markdown(results["chunks"])
 
 
 def _mitsuba(results: dict) -> list:
     mi = results.get("mitsuba")
-    out = ["## Mitsuba 3 reference", ""]
-    failed = _failed(mi)
-    if failed:
-        return out + [f"Mitsuba section {failed}", ""]
+    out, missing = _opening("Mitsuba 3 reference", "Mitsuba", mi)
+    if missing:
+        return missing
     if not mi.get("available"):
         reason = " ".join(mi["reason"].split())
         return out + [f"**Not available** on this machine: {reason}", ""]
@@ -375,10 +380,9 @@ def _threads_table(results: dict) -> list:
 
 def _throughput(results: dict, figure: str | None) -> list:
     tp = results.get("throughput")
-    out = ["## Throughput of every registered case", ""]
-    failed = _failed(tp)
-    if failed:
-        return out + [f"Throughput section {failed}", ""]
+    out, missing = _opening("Throughput of every registered case", "Throughput", tp)
+    if missing:
+        return missing
     cpus = tp["threads"][0]
     index = {(r["case"], r["call"], r["n"], r["threads"]): r for r in tp["rows"] if "n" in r}
     calls = [c for c in CALLS if any(r.get("call") == c for r in tp["rows"])]
@@ -422,10 +426,9 @@ def _throughput(results: dict, figure: str | None) -> list:
 
 def _active(results: dict, figure: str | None) -> list:
     al = results.get("active_lobes")
-    out = ["## Cost against the number of active lobes", ""]
-    failed = _failed(al)
-    if failed:
-        return out + [f"Active-lobes section {failed}", ""]
+    out, missing = _opening("Cost against the number of active lobes", "Active-lobes", al)
+    if missing:
+        return missing
     out += [f"`Sum(*components, weights=w)` of K = {al['K']} lobes "
             f"({', '.join(al['components'])}), the first k with weight 1/k and the others "
             f"exactly 0.0, on {_n(al['n'])} pairs, all threads, median of {al['runs']} runs. "
