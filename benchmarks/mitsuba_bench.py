@@ -9,7 +9,8 @@ vectorises and runs the JIT-compiled kernels on its own thread pool).
 A timing is ``bsdf.eval(mi.BSDFContext(), si, wi)`` (resp. ``pdf``, ``sample``) followed by
 ``dr.eval(result); dr.sync_thread()``: tracing, kernel launch and the computation. The first
 call (JIT compilation + run) is reported separately from the median of 10 later calls
-(smoke: 2).
+(smoke: 2). Then the worker serves single calls on request, and ``_interleaved`` times NumPy
+and Mitsuba in alternation (the ratios compared with the targets).
 Dr.Jit caches compiled kernels on disk (``~/.drjit``), and a first call whose kernel is in that
 cache skips the LLVM compilation; the worker therefore runs with ``HOME`` pointing at a fresh
 temporary folder, so that its cache starts empty and the first call includes the compilation
@@ -33,6 +34,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -106,19 +108,34 @@ def run(wo, wi, u, smoke: bool = False) -> dict:
         # HOME=tmp: an empty Dr.Jit kernel cache (tmp/.drjit), so first calls compile
         env = {**os.environ, "DRJIT_LIBLLVM_PATH": lib, "HOME": tmp}
         start = time.perf_counter()
-        try:
-            proc = subprocess.run(
+        err = Path(tmp) / "stderr.txt"
+        with open(err, "w+") as stderr:
+            proc = subprocess.Popen(
                 [sys.executable, "-m", "benchmarks.mitsuba_bench", "--worker", str(data),
-                 str(out), "--runs", str(runs)],
-                cwd=ROOT, env=env, capture_output=True, text=True, timeout=TIMEOUT)
-        except subprocess.TimeoutExpired:
-            return {**result, "available": False,
-                    "reason": f"the Mitsuba worker did not finish within {TIMEOUT} s"}
+                 str(out), "--runs", str(runs), "--serve"],
+                cwd=ROOT, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                stderr=stderr, text=True)
+            watchdog = threading.Timer(TIMEOUT, proc.kill)  # a hung worker is ended
+            watchdog.start()
+            try:
+                if proc.stdout.readline().strip() == "ready":
+                    result["interleaved"] = _interleaved(proc, wo, wi, u, smoke)
+                    proc.stdin.write("quit\n")
+                proc.communicate()
+            except (OSError, ValueError) as exc:  # the worker died while serving
+                proc.kill()
+                proc.communicate()
+                return {**result, "available": False,
+                        "reason": f"the Mitsuba worker stopped while serving: {exc}"}
+            finally:
+                watchdog.cancel()
+            stderr.seek(0)
+            stderr_text = stderr.read()
         result["worker_seconds"] = time.perf_counter() - start
         result["kernel_cache"] = {"state": "empty at start (HOME = a fresh temporary folder)",
                                   "kernels_written": _cache_files(Path(tmp) / ".drjit")}
         if proc.returncode != 0 or not out.exists():
-            lines = (proc.stderr or proc.stdout or "").strip().splitlines()
+            lines = stderr_text.strip().splitlines()
             llvm = [line.strip() for line in lines if "LLVM ERROR" in line][:1]
             detail = " / ".join(llvm or [line.strip() for line in lines[-3:]])
             hint = (f" (this libLLVM does not work with Dr.Jit's JIT, which needs LLVM >= 16; "
@@ -131,6 +148,47 @@ def run(wo, wi, u, smoke: bool = False) -> dict:
     result.update(worker, available=True)
     result["agreement"] = _agreement(wo, wi, values)
     return result
+
+
+#: rounds of the interleaved NumPy / Mitsuba timing
+ROUNDS = 9
+#: seconds of rest before each timed call, so that neither side's worker threads are still
+#: busy (Dr.Jit's pool spins for a while after a kernel) when the other side starts
+PAUSE = 0.05
+
+
+def _interleaved(proc, wo, wi, u, smoke: bool) -> dict:
+    """NumPy and Mitsuba timed in alternation: in each round every (lobe, call) runs twice in
+    NumPy (this process, all threads; the first call untimed, so that the second finds its
+    memory as a loop of calls would) and then once in the serving Mitsuba worker. A slow
+    phase of a shared machine then slows both alike, and the ratio of the medians compares
+    like with like."""
+    from benchmarks.throughput import _call, headline_lobes
+
+    lobes = {key: lobe for key, (_, lobe) in headline_lobes().items()}
+    rounds = 2 if smoke else ROUNDS
+    times = {(key, call): ([], []) for key in lobes for call in ("eval", "pdf", "sample")}
+    for lobe in lobes.values():  # warm-up
+        for call in ("eval", "pdf", "sample"):
+            _call(lobe, call, wo[:1000], wi[:1000], u[:1000])
+    for _ in range(rounds):
+        for (key, call), (ours, theirs) in times.items():
+            time.sleep(PAUSE)
+            _call(lobes[key], call, wo, wi, u)  # untimed: memory as in a loop of calls
+            start = time.perf_counter()
+            result = _call(lobes[key], call, wo, wi, u)
+            ours.append(time.perf_counter() - start)
+            del result
+            proc.stdin.write(f"{key} {call}\n")
+            proc.stdin.flush()
+            theirs.append(float(proc.stdout.readline()))
+            time.sleep(PAUSE)
+    rows = []
+    for (key, call), (ours, theirs) in times.items():
+        a, b = float(np.median(ours)), float(np.median(theirs))
+        rows.append({"lobe": key, "call": call, "numpy_seconds": a, "mitsuba_seconds": b,
+                     "ratio": a / b, "numpy_times": ours, "mitsuba_times": theirs})
+    return {"rounds": rounds, "rows": rows}
 
 
 def _agreement(wo, wi, values: dict) -> dict:
@@ -169,7 +227,7 @@ def _bsdfs(mi) -> dict:
     }
 
 
-def _worker(data: str, out: str, runs: int) -> None:
+def _worker(data: str, out: str, runs: int, serve: bool = False) -> None:
     import drjit as dr
     import mitsuba as mi
 
@@ -184,11 +242,11 @@ def _worker(data: str, out: str, runs: int) -> None:
     dr.eval(si.wi, wi_, u1, u2)
     dr.sync_thread()
     ctx = mi.BSDFContext()
-    rows, check = [], {}
+    rows, check, calls_of = [], {}, {}
     for key, bsdf in _bsdfs(mi).items():
-        calls = {"eval": lambda b=bsdf: b.eval(ctx, si, wi_),
-                 "pdf": lambda b=bsdf: b.pdf(ctx, si, wi_),
-                 "sample": lambda b=bsdf: b.sample(ctx, si, u1, u2)}
+        calls = calls_of[key] = {"eval": lambda b=bsdf: b.eval(ctx, si, wi_),
+                                 "pdf": lambda b=bsdf: b.pdf(ctx, si, wi_),
+                                 "sample": lambda b=bsdf: b.sample(ctx, si, u1, u2)}
         for call, fn in calls.items():
             times = []
             for _ in range(runs + 1):
@@ -207,16 +265,30 @@ def _worker(data: str, out: str, runs: int) -> None:
     Path(out).write_text(json.dumps({
         "rows": rows, "dr_threads": dr.thread_count(), "mitsuba": mi.__version__,
         "drjit": dr.__version__}))
+    if serve:  # one timed call per request "<lobe> <call>" on stdin, until "quit"
+        print("ready", flush=True)
+        for line in sys.stdin:
+            if line.strip() == "quit":
+                break
+            key, call = line.split()
+            start = time.perf_counter()
+            result = calls_of[key][call]()
+            dr.eval(result)
+            dr.sync_thread()
+            print(time.perf_counter() - start, flush=True)
+            del result
 
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--worker", nargs=2, metavar=("PAIRS_NPY", "OUT_JSON"))
     parser.add_argument("--runs", type=int, default=RUNS)
+    parser.add_argument("--serve", action="store_true",
+                        help="with --worker: then time one call per stdin line '<lobe> <call>'")
     parser.add_argument("--n", type=int, default=10**6, help="pairs (without --worker)")
     args = parser.parse_args(argv)
     if args.worker:
-        _worker(*args.worker, args.runs)
+        _worker(*args.worker, args.runs, args.serve)
         return
     from benchmarks.throughput import directions
 

@@ -89,6 +89,11 @@ def test_mitsuba_section_available_or_explained(smoke):
                          for call in ("eval", "pdf", "sample")}
     for r in rows.values():
         assert r["first_seconds"] > 0 and r["median_seconds"] > 0
+    inter = {(r["lobe"], r["call"]): r for r in mi["interleaved"]["rows"]}
+    assert set(inter) == set(rows)
+    for r in inter.values():
+        assert len(r["numpy_times"]) == len(r["mitsuba_times"]) == mi["interleaved"]["rounds"]
+        assert r["numpy_seconds"] > 0 and r["mitsuba_seconds"] > 0 and r["ratio"] > 0
     agreement = mi["agreement"]
     if "error" not in agreement:  # older lobes without a masking option
         assert all(v["max_relative_difference"] < 1e-3 for v in agreement.values())
