@@ -209,3 +209,15 @@ def test_dielectric_relative_accuracy_including_eta_near_one(eta, cos_theta):
     """Full float64 relative accuracy, also where the textbook form cancels (eta -> 1)."""
     expected = _fresnel_decimal(cos_theta, eta)
     assert F.dielectric(cos_theta, eta) == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize("eta", [1.5, 1.0 / 1.5, 1.0, 1.0 + 1e-9, 3.0])
+def test_dielectric_k_scalar_paths_match_the_array_path(eta):
+    """The shortcuts for one interface (no TIR test from the less dense side, 0 when
+    index-matched) give bit for bit the values of the general per-element path."""
+    from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
+
+    c = np.linspace(0.0, 1.0, 1001)
+    k, eta2 = _k_of_indices(eta, 1.0), eta * eta
+    general = _dielectric_k(c, np.full_like(c, k), np.full_like(c, eta2))
+    np.testing.assert_array_equal(_dielectric_k(c, float(k), float(eta2)), general)
