@@ -8,6 +8,10 @@ Public API
 ``f82(cos_theta, f0, f82)``                            Hoffman's original F82 (seed 000 eqs. 2-5)
 ``f82_tint(cos_theta, f0, tint, f90=1, exponent=5)``   ASM F82-tint (seed 000 eqs. 2-8),
                                                        generalized (seed 001 eqs. 5-6)
+``gulbrandsen_to_ior(r, g)``, ``ior_to_gulbrandsen(eta, k)``
+                                                       Gulbrandsen's artist-friendly conductor
+                                                       parameters (reflectivity, edge tint) and
+                                                       back
 ``ExactConductor(eta, k)``, ``ExactDielectric(eta)``    the same models as objects with fixed
                                                        parameters, for lobes: callable on
                                                        cos theta, and ``from_cos2`` (cos^2)
@@ -23,6 +27,8 @@ References
 [001] Hoffman 2023, Generalization of Adobe's Fresnel Model
       (``shared/seeds/001_fc0819a3e178da01.txt``).
 Born & Wolf, *Principles of Optics*, §1.5 and §13.2 (Fresnel equations, absorbing media).
+Gulbrandsen 2014, "Artist Friendly Metallic Fresnel", JCGT 3(4); used for coloured conductors
+by [002] Barla, Pacanowski, Vangorp 2018 (``shared/seeds/002_01cff37cda6a7899.txt``), §4.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ import numpy as np
 from adobe_bsdf import _params
 
 __all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX",
+           "gulbrandsen_to_ior", "ior_to_gulbrandsen",
            "ExactConductor", "ExactDielectric"]
 
 #: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) (seed 000 eq. 2)
@@ -218,6 +225,77 @@ def _conductor_channel(c2, s2, two_c2, s4, A, B, out=None):
     ac2 *= p
     num_s *= q
     return np.divide(num_s, ac2, out=num_s if out is None else out)
+
+
+# --- Gulbrandsen's artist-friendly conductor parameters ------------------------------------
+def gulbrandsen_to_ior(reflectivity, edge_tint) -> tuple[np.ndarray, np.ndarray]:
+    """Complex index (eta, k) of a conductor from its reflectivity r and edge tint g.
+
+    Gulbrandsen 2014 (JCGT 3(4)): with s = sqrt(r), n_min = (1 - r) / (1 + r) and
+    n_max = (1 + s) / (1 - s), eta = g n_min + (1 - g) n_max and k is the extinction for
+    which the normal-incidence reflectance ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2) is r,
+    k^2 = (r (eta + 1)^2 - (eta - 1)^2) / (1 - r). Seed 002 §4 maps coloured hazy
+    conductors through it: g = 0 gives k = 0, a dielectric of reflectance r.
+
+    Parameters
+    ----------
+    reflectivity : array_like in [0, 1)
+        r, the reflectance at normal incidence (r = 1 would need an infinite index).
+    edge_tint : array_like in [0, 1]
+        g, broadcast against ``reflectivity``; any shape (one value per colour channel).
+
+    Returns
+    -------
+    (eta, k) : ndarrays of the broadcast shape.
+
+    Notes
+    -----
+    k^2 is evaluated as the product of the two factors of r (eta + 1)^2 - (eta - 1)^2, each
+    written as a sum of non-negative terms,
+    k^2 = 4 g r / ((1 + r)(1 - s)) (g (1 - s) / (1 + r) + 2 (1 - g) / (1 - s)),
+    so that it is accurate (and exactly 0 at g = 0) instead of a difference of large terms.
+    """
+    r = _params.real("reflectivity", reflectivity, 0.0, 1.0, hi_open=True)
+    g = _params.real("edge_tint", edge_tint, 0.0, 1.0)
+    r, g = np.broadcast_arrays(r, g)
+    s = np.sqrt(r)
+    n_min = (1.0 - r) / (1.0 + r)
+    n_max = (1.0 + s) / (1.0 - s)
+    eta = g * n_min + (1.0 - g) * n_max
+    k2 = 4.0 * g * r / ((1.0 + r) * (1.0 - s)) * (g * (1.0 - s) / (1.0 + r)
+                                                  + 2.0 * (1.0 - g) / (1.0 - s))
+    return eta, np.sqrt(k2)
+
+
+def ior_to_gulbrandsen(eta, k) -> tuple[np.ndarray, np.ndarray]:
+    """Reflectivity r and edge tint g of a conductor with complex index eta + i k, the
+    inverse of ``gulbrandsen_to_ior``.
+
+    r = ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2) (the exact normal-incidence reflectance)
+    and g = (n_max(r) - eta) / (n_max(r) - n_min(r)). A measured metal need not lie in
+    Gulbrandsen's range: g is returned as computed, and is outside [0, 1] where eta is
+    below n_min(r). At r = 0 (eta = 1, k = 0: no interface) g is undefined; 0 is returned.
+
+    Parameters
+    ----------
+    eta : array_like in (0, inf)
+    k : array_like in [0, inf), broadcast against ``eta``.
+
+    Returns
+    -------
+    (r, g) : ndarrays of the broadcast shape.
+    """
+    eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
+    k = _params.real("k", k, 0.0, np.inf)
+    eta, k = np.broadcast_arrays(eta, k)
+    k2 = k * k
+    r = ((eta - 1.0) ** 2 + k2) / ((eta + 1.0) ** 2 + k2)
+    s = np.sqrt(r)
+    n_max = (1.0 + s) / (1.0 - s)
+    spread = 2.0 * s * (1.0 + s) / ((1.0 - s) * (1.0 + r))  # n_max - n_min
+    with np.errstate(divide="ignore", invalid="ignore"):  # r = 0 is handled below
+        g = (n_max - eta) / spread
+    return r, np.where(r > 0.0, g, 0.0)
 
 
 def _channel_major(x, ndim: int) -> np.ndarray:

@@ -221,3 +221,75 @@ def test_dielectric_k_scalar_paths_match_the_array_path(eta):
     k, eta2 = _k_of_indices(eta, 1.0), eta * eta
     general = _dielectric_k(c, np.full_like(c, k), np.full_like(c, eta2))
     np.testing.assert_array_equal(_dielectric_k(c, float(k), float(eta2)), general)
+
+
+# --- Gulbrandsen's artist-friendly conductor parameters ------------------------------------
+from hypothesis import given  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_R = st.floats(0.0, 0.99)
+_G = st.floats(0.0, 1.0)
+
+
+@given(r=_R, g=_G)
+def test_gulbrandsen_normal_incidence_reflectance_is_r(r, g):
+    """The exact conductor Fresnel at normal incidence of the mapped (eta, k) is r."""
+    eta, k = ab.fresnel.gulbrandsen_to_ior(r, g)
+    np.testing.assert_allclose(ab.fresnel.conductor(1.0, eta, k)[0], r, rtol=EXACT, atol=1e-15)
+
+
+@given(r=_R, g=_G)
+def test_gulbrandsen_round_trip(r, g):
+    r2, g2 = ab.fresnel.ior_to_gulbrandsen(*ab.fresnel.gulbrandsen_to_ior(r, g))
+    np.testing.assert_allclose(r2, r, rtol=EXACT, atol=1e-15)
+    if r > 1e-6:  # g is undefined at r = 0 and ill-conditioned just above it
+        np.testing.assert_allclose(g2, g, rtol=0, atol=1e-9)
+
+
+@given(r=_R, g=st.floats(0.05, 1.0))
+def test_gulbrandsen_k_equals_the_textbook_form(r, g):
+    """The cancellation-free k^2 equals (r (eta + 1)^2 - (eta - 1)^2) / (1 - r) where the
+    latter is well conditioned (g away from 0)."""
+    eta, k = ab.fresnel.gulbrandsen_to_ior(r, g)
+    textbook = np.sqrt((r * (eta + 1.0) ** 2 - (eta - 1.0) ** 2) / (1.0 - r))
+    np.testing.assert_allclose(k, textbook, rtol=1e-9, atol=1e-12)
+
+
+def test_gulbrandsen_zero_edge_tint_is_a_dielectric():
+    """g = 0: k = 0 exactly and eta = (1 + sqrt r) / (1 - sqrt r), whose dielectric Fresnel
+    at normal incidence is r (seed 002 §4: kappa vanishes with g)."""
+    r = np.linspace(0.0, 0.95, 20)
+    eta, k = ab.fresnel.gulbrandsen_to_ior(r, 0.0)
+    assert np.all(k == 0.0)
+    np.testing.assert_allclose(ab.fresnel.dielectric(1.0, eta), r, rtol=EXACT, atol=1e-15)
+
+
+def test_gulbrandsen_broadcasting_and_measured_metal():
+    r = np.array([0.9, 0.6, 0.3])
+    for shape in [(), (3,), (2, 3)]:
+        g = np.full(shape, 0.4)
+        eta, k = ab.fresnel.gulbrandsen_to_ior(r if shape else 0.5, g)
+        assert eta.shape == k.shape == (shape or ())
+    # gold (the RGB n, k of the lobe tests): its (r, g) maps back to its (eta, k) where g is
+    # in [0, 1]
+    eta, k = np.array([0.143, 0.374, 1.442]), np.array([3.983, 2.385, 1.603])
+    r, g = ab.fresnel.ior_to_gulbrandsen(eta, k)
+    inside = (g >= 0.0) & (g <= 1.0)
+    assert inside.any()
+    eta2, k2 = ab.fresnel.gulbrandsen_to_ior(r[inside], g[inside])
+    np.testing.assert_allclose(eta2, eta[inside], rtol=1e-10)
+    np.testing.assert_allclose(k2, k[inside], rtol=1e-10)
+    assert ab.fresnel.ior_to_gulbrandsen(1.0, 0.0) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("call, args, name", [
+    (ab.fresnel.gulbrandsen_to_ior, (1.0, 0.5), "reflectivity"),
+    (ab.fresnel.gulbrandsen_to_ior, (-0.1, 0.5), "reflectivity"),
+    (ab.fresnel.gulbrandsen_to_ior, (0.5, 1.5), "edge_tint"),
+    (ab.fresnel.gulbrandsen_to_ior, (np.nan, 0.5), "reflectivity"),
+    (ab.fresnel.ior_to_gulbrandsen, (0.0, 1.0), "eta"),
+    (ab.fresnel.ior_to_gulbrandsen, (1.5, -1.0), "k"),
+])
+def test_gulbrandsen_bad_input(call, args, name):
+    with pytest.raises(ValueError, match=name):
+        call(*args)
