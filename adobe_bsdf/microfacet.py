@@ -23,11 +23,12 @@ Dupuy, Benyoub 2023, "Sampling visible GGX normals with spherical caps", CGF 42(
 from __future__ import annotations
 
 import numpy as np
+from scipy import special
 
 from adobe_bsdf import _params
 from adobe_bsdf.frame import dot
 
-__all__ = ["GGX", "asm_alpha", "ALPHA_MIN", "MASKING"]
+__all__ = ["GGX", "Beckmann", "asm_alpha", "ALPHA_MIN", "MASKING"]
 
 #: smallest alpha of a rough lobe. Where both alphas are below it the lobe is smooth (a delta
 #: lobe); where only one is, that axis is raised to ALPHA_MIN (docs/conventions.md).
@@ -63,7 +64,54 @@ def asm_alpha(roughness, anisotropy=0.0):
     return r * r + a**4, np.broadcast_to(r * r, np.broadcast_shapes(r.shape, a.shape)).copy()
 
 
-class GGX:
+class _Distribution:
+    """What every microfacet distribution shares: validated anisotropic alphas, the smooth
+    (delta) limit below ``ALPHA_MIN``, the masking form, and safe alphas for divisions."""
+
+    def __init__(self, alpha_x, alpha_y=None, masking: str = "correlated"):
+        ax = _params.real("alpha_x", alpha_x, 0.0, np.inf)
+        ay = ax if alpha_y is None else _params.real("alpha_y", alpha_y, 0.0, np.inf)
+        ax, ay = np.broadcast_arrays(ax, ay)
+        self.smooth = (ax < ALPHA_MIN) & (ay < ALPHA_MIN)
+        self.alpha_x = np.where(self.smooth, ax, np.maximum(ax, ALPHA_MIN))
+        self.alpha_y = np.where(self.smooth, ay, np.maximum(ay, ALPHA_MIN))
+        self.masking = _params.choice("masking", masking, MASKING)
+        # safe alphas for the divisions below (the smooth elements are masked afterwards)
+        self._ax = np.where(self.smooth, 1.0, self.alpha_x)
+        self._ay = np.where(self.smooth, 1.0, self.alpha_y)
+        self._pi_ax_ay = np.pi * self._ax * self._ay
+
+    def __repr__(self) -> str:
+        return (f"{type(self).__name__}(alpha_x={self.alpha_x}, alpha_y={self.alpha_y}, "
+                f"masking={self.masking!r})")
+
+    @property
+    def param_shape(self) -> tuple:
+        """Batch shape of the alphas."""
+        return self.alpha_x.shape
+
+    _ARRAYS = ("alpha_x", "alpha_y", "smooth", "_ax", "_ay", "_pi_ax_ay")
+
+    def take(self, shape: tuple, index) -> _Distribution:
+        """The distribution at the elements ``index`` of its parameters broadcast to
+        ``shape`` and flattened; ``self`` if the parameters are scalars."""
+        if self.param_shape == ():
+            return self
+        part = object.__new__(type(self))
+        part.masking = self.masking
+        for name in self._ARRAYS:
+            value = np.broadcast_to(getattr(self, name), shape).reshape(-1)
+            setattr(part, name, value[index])
+        return part
+
+    def _stretched(self, w):
+        """|w.z| and the projected roughness term t = sqrt(ax^2 wx^2 + ay^2 wy^2), so that
+        alpha(w) tan(theta) = t / |w.z| (Heitz 2014 eq. 80)."""
+        z = np.abs(w[..., 2])
+        return z, np.hypot(self.alpha_x * w[..., 0], self.alpha_y * w[..., 1])
+
+
+class GGX(_Distribution):
     """Anisotropic GGX normal distribution with Smith masking-shadowing.
 
     Parameters
@@ -80,22 +128,6 @@ class GGX:
     delta, so ``D`` and ``pdf_visible`` return 0, ``sample_visible`` returns the normal and
     ``G1`` / ``G2`` are 1 (0 at exactly grazing directions).
     """
-
-    def __init__(self, alpha_x, alpha_y=None, masking: str = "correlated"):
-        ax = _params.real("alpha_x", alpha_x, 0.0, np.inf)
-        ay = ax if alpha_y is None else _params.real("alpha_y", alpha_y, 0.0, np.inf)
-        ax, ay = np.broadcast_arrays(ax, ay)
-        self.smooth = (ax < ALPHA_MIN) & (ay < ALPHA_MIN)
-        self.alpha_x = np.where(self.smooth, ax, np.maximum(ax, ALPHA_MIN))
-        self.alpha_y = np.where(self.smooth, ay, np.maximum(ay, ALPHA_MIN))
-        self.masking = _params.choice("masking", masking, MASKING)
-        # safe alphas for the divisions below (the smooth elements are masked afterwards)
-        self._ax = np.where(self.smooth, 1.0, self.alpha_x)
-        self._ay = np.where(self.smooth, 1.0, self.alpha_y)
-        self._pi_ax_ay = np.pi * self._ax * self._ay
-
-    def __repr__(self) -> str:
-        return f"GGX(alpha_x={self.alpha_x}, alpha_y={self.alpha_y}, masking={self.masking!r})"
 
     # -- distribution ---------------------------------------------------------------------
     def D(self, m) -> np.ndarray:
@@ -173,25 +205,6 @@ class GGX:
         return np.where(den > 0.0, zi * (zo + so) / np.where(den > 0.0, den, 1.0), 0.0)
 
     # -- component forms for the lobes' kernels (no validation, no stacking) ---------------
-    @property
-    def param_shape(self) -> tuple:
-        """Batch shape of the alphas."""
-        return self.alpha_x.shape
-
-    _ARRAYS = ("alpha_x", "alpha_y", "smooth", "_ax", "_ay", "_pi_ax_ay")
-
-    def take(self, shape: tuple, index) -> GGX:
-        """The distribution at the elements ``index`` of its parameters broadcast to
-        ``shape`` and flattened; ``self`` if the parameters are scalars."""
-        if self.param_shape == ():
-            return self
-        part = object.__new__(GGX)
-        part.masking = self.masking
-        for name in self._ARRAYS:
-            value = np.broadcast_to(getattr(self, name), shape).reshape(-1)
-            setattr(part, name, value[index])
-        return part
-
     def projected(self, x, y, abs_z):
         """S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) from the components of w (|wz| given),
         so that Lambda(w) = (S / |wz| - 1) / 2 (Heitz 2014 eq. 86)."""
@@ -280,3 +293,137 @@ class GGX:
             mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
                                                                    (1.0, mz)))
         return mx, my, mz
+
+
+#: bracket of the stretched visible slope in ``Beckmann.sample_visible``: erfc(40) underflows
+SLOPE_MIN = -40.0
+
+
+class Beckmann(_Distribution):
+    """Anisotropic Beckmann normal distribution with Smith masking-shadowing.
+
+    D(m) = exp(-((mx/ax)^2 + (my/ay)^2) / mz^2) / (pi ax ay mz^4) (Walter et al. 2007 eq. 25,
+    anisotropic form), Lambda(w) = (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)) with
+    a = 1 / (alpha(w) tan theta) (Heitz 2014 eq. 83). Parameters, masking forms and the smooth
+    limit as ``GGX``; seed 002 (Table 2) compares it with GGX as a hazy-gloss lobe.
+    """
+
+    def D(self, m) -> np.ndarray:
+        """Normal distribution D(m); 0 for m.z <= 0."""
+        m = np.asarray(m, dtype=np.float64)
+        ok = (m[..., 2] > 0.0) & ~self.smooth
+        cos2 = np.where(ok, m[..., 2] ** 2, 1.0)
+        e = ((m[..., 0] / self._ax) ** 2 + (m[..., 1] / self._ay) ** 2) / cos2
+        return np.where(ok, np.exp(-e) / (self._pi_ax_ay * cos2 * cos2), 0.0)
+
+    def lambda_(self, w) -> np.ndarray:
+        """Smith Lambda(w), written as exp(-a^2) (1 / (a sqrt(pi)) - erfcx(a)) / 2 (erfc(a) =
+        exp(-a^2) erfcx(a)), finite for large a; +inf at w.z = 0, 0 at normal incidence
+        and where the distribution is smooth."""
+        z, t = self._stretched(np.asarray(w, dtype=np.float64))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a = z / t  # inf at normal incidence, 0 at grazing
+            lam = 0.5 * np.exp(-a * a) * (1.0 / (a * np.sqrt(np.pi)) - special.erfcx(a))
+        lam = np.where(t == 0.0, 0.0, np.where(z == 0.0, np.inf, lam))
+        return np.where(self.smooth & (z > 0.0), 0.0, lam)
+
+    def G1(self, w) -> np.ndarray:
+        """Smith masking 1 / (1 + Lambda(w)); 0 at w.z = 0."""
+        return 1.0 / (1.0 + self.lambda_(w))
+
+    def G2(self, wo, wi) -> np.ndarray:
+        """Height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)), or G1(wo) G1(wi)."""
+        if self.masking == "separable":
+            return self.G1(wo) * self.G1(wi)
+        return 1.0 / (1.0 + self.lambda_(wo) + self.lambda_(wi))
+
+    def V(self, wo, wi) -> np.ndarray:
+        """G2(wo, wi) / (4 |cos theta_o| |cos theta_i|); 0 where a direction is grazing."""
+        den = 4.0 * np.abs(np.asarray(wo)[..., 2] * np.asarray(wi)[..., 2])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(den > 0.0, self.G2(wo, wi) / np.where(den > 0.0, den, 1.0), 0.0)
+
+    def G2_over_G1(self, wo, wi) -> np.ndarray:
+        """G2(wo, wi) / G1(wo), the weight of visible-normal sampling without Fresnel."""
+        lo = self.lambda_(wo)
+        return (1.0 + lo) * self.G2(wo, wi) if self.masking == "correlated" else self.G1(wi)
+
+    def pdf_visible(self, w, m) -> np.ndarray:
+        """D_w(m) = G1(w') max(0, w'.m) D(m) / |w.z| with w' = sign(w.z) w (Heitz 2014 eq. 3)."""
+        w = np.asarray(w, dtype=np.float64)
+        m = np.asarray(m, dtype=np.float64)
+        z = np.abs(w[..., 2])
+        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
+        cos_wm = np.maximum(0.0, sign * dot(w, m))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            value = self.G1(w) * cos_wm * self.D(m) / z
+        return np.where(z > 0.0, value, 0.0)
+
+    def sample_visible(self, w, u2) -> np.ndarray:
+        """Sample a microfacet normal m with density ``pdf_visible(w, m)``.
+
+        Heitz & d'Eon 2014: stretch w' = sign(w.z) w to alpha = 1 and rotate it into the
+        x-z plane, (sin theta, 0, cos theta); there the visible slopes are independent, the
+        slope along y has density exp(-y^2) / sqrt(pi) (y = erfinv(2 u1 - 1)), the slope
+        along x has density proportional to (mu - x) exp(-x^2) for x < mu = cot theta, with
+        CDF N(x) / N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 + exp(-x^2) / 2, solved for u0 by
+        Newton's method safeguarded by bisection on [SLOPE_MIN, mu] to rounding. The slopes
+        are rotated back, unstretched and turned into the normal (-x, -y, 1) / |...|.
+        A uniform below 2^-54 is raised to it (at 0 the slope would be infinite).
+        """
+        w = np.asarray(w, dtype=np.float64)
+        u2 = np.asarray(u2, dtype=np.float64)
+        shape = np.broadcast_shapes(w.shape[:-1], u2.shape[:-1], self.param_shape)
+        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
+        sx, sy, sz = _normalize(self.alpha_x * w[..., 0] * sign,
+                                self.alpha_y * w[..., 1] * sign, np.abs(w[..., 2]))
+        sin_t = np.hypot(sx, sy)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cos_p = np.where(sin_t > 0.0, sx / sin_t, 1.0)
+            sin_p = np.where(sin_t > 0.0, sy / sin_t, 0.0)
+            mu = sz / sin_t  # +inf at normal incidence
+        tiny = 2.0**-54  # the smallest u with 2 u - 1 > -1
+        u0 = np.broadcast_to(np.maximum(u2[..., 0], tiny), shape)
+        u1 = np.maximum(u2[..., 1], tiny)
+        y = special.erfinv(2.0 * u1 - 1.0)
+        x = _beckmann_visible_slope(np.broadcast_to(mu, shape), u0)
+        px = self.alpha_x * (cos_p * x - sin_p * y)
+        py = self.alpha_y * (sin_p * x + cos_p * y)
+        m = np.stack(np.broadcast_arrays(*_normalize(-px, -py, np.ones(shape))), axis=-1)
+        return np.where(self.smooth[..., None], np.array([0.0, 0.0, 1.0]), m)
+
+
+def _beckmann_visible_slope(mu, u):
+    """The x in [SLOPE_MIN, mu] with N(x) = u N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 +
+    exp(-x^2) / 2 (``Beckmann.sample_visible``); x = erfinv(2 u - 1) where mu = inf. Newton
+    steps that leave the bracket are replaced by bisection; at most 100 steps (bisection
+    alone would reach rounding in 60)."""
+    mu = np.asarray(mu, dtype=np.float64)
+    u = np.asarray(u, dtype=np.float64)
+    normal = np.isinf(mu)
+    x0 = special.erfinv(2.0 * u - 1.0)
+    if normal.all():
+        return x0
+    m = np.where(normal, 0.0, mu)  # finite stand-in, replaced below
+    root_pi_2 = 0.5 * np.sqrt(np.pi)
+
+    def n_of(x):
+        return m * root_pi_2 * special.erfc(-x) + 0.5 * np.exp(-x * x)
+
+    target = u * n_of(m)
+    lo = np.full(m.shape, SLOPE_MIN)
+    hi = m.copy()
+    x = np.clip(x0, lo, hi)
+    for _ in range(100):
+        g = n_of(x) - target
+        lo = np.where(g < 0.0, x, lo)
+        hi = np.where(g > 0.0, x, hi)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            step = x - g / ((m - x) * np.exp(-x * x))  # not finite: bisection instead
+        inside = (step > lo) & (step < hi)
+        new = np.where(inside, step, 0.5 * (lo + hi))
+        done = (g == 0.0) | (np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x)))
+        x = np.where(g == 0.0, x, new)
+        if done.all():
+            break
+    return np.where(normal, x0, x)
