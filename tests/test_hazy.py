@@ -1,0 +1,141 @@
+"""Haze mapping of seed 002 (Barla, Pacanowski, Vangorp 2018): the paper's claims as tests."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import adobe_bsdf as ab
+from adobe_bsdf import hazy
+from tests.tolerances import EXACT
+
+N = np.array([0.0, 0.0, 1.0])
+
+
+def _composite_peak(m: hazy.HazeMapping):
+    """f_r(n, n) of eq. 1 built from two GGX Conductor lobes sharing the mapped Fresnel."""
+    fresnel = ab.fresnel.ExactConductor(m.eta, m.kappa)
+    narrow = ab.lobes.Conductor(*m.alpha_n, fresnel=fresnel).eval(N, N)
+    wide = ab.lobes.Conductor(*m.alpha_w, fresnel=fresnel).eval(N, N)
+    return (1.0 - m.beta) * narrow + m.beta * wide
+
+
+@pytest.mark.parametrize("r_c, g", [(0.04, 0.0), ([0.9, 0.6, 0.3], 0.4), (0.5, 1.0)])
+@pytest.mark.parametrize("alpha", [(0.01, 0.01), (0.05, 0.2)])
+@pytest.mark.parametrize("smooth_weight", [None, 4.0])
+def test_core_peak_is_independent_of_haziness(r_c, g, alpha, smooth_weight):
+    """Fig. 2 e-f / Fig. 8: the composite's value in the mirror direction at normal
+    incidence is r_c f_n(n, n) for every haziness beta_h (the halo vanishes there)."""
+    core = np.asarray(r_c) * ab.lobes.Conductor(*alpha).eval(N, N)  # F = 1: f_n(n, n)
+    for beta_h in (0.0, 0.1, 0.5, 0.9):
+        m = hazy.haze_mapping(r_c, beta_h, 5.0, *alpha, edge_tint=g,
+                              smooth_weight=smooth_weight)
+        np.testing.assert_allclose(_composite_peak(m), core, rtol=1e-9)
+
+
+_RC = st.floats(0.0, 1.0)
+_P = st.floats(1e-6, 1.0)
+_BH = st.floats(0.0, 1.0)
+
+
+@given(r_c=_RC, p=_P, beta_h=_BH, w=st.one_of(st.none(), st.floats(0.05, 1e3)))
+def test_haze_intensity_within_positivity_and_energy(r_c, p, beta_h, w):
+    """Eq. 6: 0 <= k_h <= r_c / p and k_h <= (1 - r_c) / (1 - p), for eq. 7 and eq. 15."""
+    k_h = (hazy.haze_intensity(r_c, p, beta_h) if w is None
+           else hazy.haze_intensity_smooth(r_c, p, beta_h, w))
+    slack = 1e-12
+    assert 0.0 <= k_h <= r_c / p + slack
+    if p < 1.0:
+        assert k_h <= (1.0 - r_c) / (1.0 - p) + slack
+
+
+@given(p=st.floats(0.01, 0.99), beta_h=st.floats(0.05, 1.0), w=st.floats(0.1, 50.0))
+def test_bezier_is_c1_at_the_kink_and_matches_eq7_at_the_ends(p, beta_h, w):
+    h = 1e-6
+
+    def k(r):
+        return hazy.haze_intensity_smooth(r, p, beta_h, w)
+
+    left, right = (k(p) - k(p - h)) / h, (k(p + h) - k(p)) / h
+    assert abs(left - right) <= 1e-4 * max(1.0, abs(left)) / min(p, 1 - p)
+    for r in (0.0, 1.0):
+        assert k(r) == pytest.approx(hazy.haze_intensity(r, p, beta_h), abs=1e-15)
+
+
+def test_bezier_root_is_on_the_curve_and_tends_to_eq7():
+    """The computed k_h is the second coordinate of C(u) whose first is r_c (the inversion,
+    independently), equals the paper's eq. 12 root away from b = 1, and tends to eq. 7 as
+    w -> inf."""
+    r = np.linspace(0.0, 1.0, 201)
+    p, beta_h = 0.3, 0.8
+    for w in (0.5, 1.0, 2.0, 8.0):
+        b = 2.0 * (r * (1.0 - w) + w * p)
+        u = hazy._bezier_parameter(r, p, w)
+        den = (1 - u) ** 2 + 2 * (1 - u) * u * w + u * u
+        np.testing.assert_allclose((2 * (1 - u) * u * w * p + u * u) / den, r, atol=1e-14)
+        np.testing.assert_allclose(hazy.haze_intensity_smooth(r, p, beta_h, w),
+                                   2 * (1 - u) * u * w * beta_h / den, rtol=EXACT, atol=1e-15)
+        far = np.abs(b - 1.0) > 1e-3
+        with np.errstate(divide="ignore", invalid="ignore"):  # 0 / 0 at b = 1 (not compared)
+            paper = (b - np.sqrt(b * b - 4 * (b - 1) * r)) / (2 * (b - 1))
+        np.testing.assert_allclose(u[far], paper[far], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(hazy.haze_intensity_smooth(r, p, beta_h, 1e9),
+                               hazy.haze_intensity(r, p, beta_h), atol=1e-6)
+
+
+def test_bezier_near_b_equal_one_matches_the_papers_taylor_window():
+    """Near r_c* = (1/2 - w p) / (1 - w) (b = 1) the paper switches to a Taylor expansion of
+    u; the closed form used here agrees with it to second order."""
+    p, w, beta_h = 0.3, 2.0, 1.0
+    r_star = (0.5 - w * p) / (1 - w)
+    for d in (1e-4, 1e-5, -1e-5):
+        r = r_star + d
+        u_taylor = (2 * w * p - 1 - (4 * w * w * p * p - 4 * w * w * p + 1) * d) / (2 * (w - 1))
+        u = hazy._bezier_parameter(r, p, w)
+        assert abs(u - u_taylor) <= 10 * d * d
+    assert np.isfinite(hazy.haze_intensity_smooth(r_star, p, beta_h, w))
+
+
+def test_wide_roughness_eq8():
+    np.testing.assert_allclose(hazy.wide_roughness(0.02, 0.02, 7.0), (0.16, 0.16), rtol=EXACT)
+    ax, ay, lx, ly = 0.04, 0.01, 3.0, 0.5
+    np.testing.assert_allclose(hazy.wide_roughness(ax, ay, lx, ly),
+                               (ax + lx * 0.02, ay + ly * 0.02), rtol=EXACT)
+
+
+@pytest.mark.parametrize("alpha_n, alpha_w", [((0.01, 0.01), (0.08, 0.08)),
+                                              ((0.05, 0.2), (0.3, 0.25))])
+def test_peak_ratio_is_the_ratio_of_the_lobes_peaks(alpha_n, alpha_w):
+    """Table 2 against the lobes' actual values at (n, n): GGX through the Conductor lobe,
+    Beckmann through D (G = 1 at normal incidence)."""
+    ggx = ab.lobes.Conductor(*alpha_w).eval(N, N) / ab.lobes.Conductor(*alpha_n).eval(N, N)
+    np.testing.assert_allclose(ggx, hazy.peak_ratio(alpha_n, alpha_w, "ggx"), rtol=EXACT)
+    beck = ab.Beckmann(*alpha_w).D(N) / ab.Beckmann(*alpha_n).D(N)
+    np.testing.assert_allclose(beck, hazy.peak_ratio(alpha_n, alpha_w, "beckmann"), rtol=EXACT)
+
+
+def test_dielectric_mapping_and_extremes():
+    m = hazy.haze_mapping(0.04, 0.05, 7.0, 0.01)  # edge tint 0: a dielectric
+    assert np.all(m.kappa == 0.0)
+    r = m.reflectivity
+    np.testing.assert_allclose(m.eta, (1 + np.sqrt(r)) / (1 - np.sqrt(r)), rtol=EXACT)
+    for r_c in (0.0, 0.3, 1.0):
+        for beta_h in (0.0, 1.0):
+            for extent in (0.0, 1e3):
+                for alpha in (1e-6, 1.0):
+                    m = hazy.haze_mapping(r_c, beta_h, extent, alpha, edge_tint=0.5)
+                    assert 0.0 <= m.beta <= 1.0 and np.all(m.reflectivity <= 1.0)
+                    finite = m.reflectivity < 1.0
+                    assert np.all(np.isfinite(m.eta[finite]) & np.isfinite(m.kappa[finite]))
+                    assert np.all(np.isinf(m.eta[~finite]))  # r = 1: F = 1, no finite index
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"haziness": 1.5}, "haziness"), ({"haze_extent": -1.0}, "haze_extent_x"),
+    ({"core_reflectivity": 1.2}, "core_reflectivity"), ({"model": "phong"}, "model"),
+    ({"alpha_x": 0.0}, "alpha_x"), ({"smooth_weight": 0.0}, "weight")])
+def test_bad_input(kwargs, name):
+    args = {"core_reflectivity": 0.5, "haziness": 0.5, "haze_extent": 5.0, "alpha_x": 0.05,
+            **kwargs}
+    with pytest.raises(ValueError, match=name):
+        hazy.haze_mapping(**args)
