@@ -252,8 +252,10 @@ def _before_after(results: dict) -> list:
     if _failed(hl):
         return out + ["Needs the headline section.", ""]
     mi = _mitsuba_rows(results.get("mitsuba"))
-    inter = {r["lobe"]: r["ratio"] for r in ((results.get("mitsuba") or {}).get(
-        "interleaved") or {}).get("rows", []) if r["call"] == "eval"}
+    inter_rows = [r for r in ((results.get("mitsuba") or {}).get("interleaved") or {}).get(
+        "rows", []) if r["call"] == "eval"]
+    inter = {r["lobe"]: r["ratio"] for r in inter_rows}
+    inter_seconds = {r["lobe"]: r["mitsuba_seconds"] for r in inter_rows}
     add = hl["memory_pass_seconds"]
     before = {(r["lobe"], r["call"]): r for r in base["headline"]["rows"] if "seconds" in r}
     after = {(r["lobe"], r["call"], r["threads"]): r for r in hl["rows"] if "seconds" in r}
@@ -299,6 +301,11 @@ def _before_after(results: dict) -> list:
                     p = a["seconds"] / add
                     parts.append(f"{p:.1f} memory passes (target ≤ {max_passes:g}: "
                                  f"{'met' if p <= max_passes else 'not met'})")
+                two = ((results.get("chunks") or {}).get("two_processes") or {}).get(key)
+                mitsuba = m and (inter_seconds.get(key) or m["median_seconds"])
+                if two and mitsuba:
+                    parts.append(f"ceiling without an interpreter lock (two processes, "
+                                 f"chunk sweep): {_time(two)}, {two / mitsuba:.1f}× Mitsuba")
                 verdicts.append(f"- {key} `eval`: " + "; ".join(parts))
     return out + [""] + verdicts + [""]
 
@@ -516,3 +523,22 @@ def write(results: dict, out: Path | None, smoke: bool) -> dict:
     json_path.write_text(json.dumps(_clean(results), indent=1) + "\n", encoding="utf-8")
     md_path.write_text(markdown(results, figure_dir, "figures/", smoke), encoding="utf-8")
     return {"json": json_path, "markdown": md_path, "figures": figure_dir}
+
+
+def main(argv=None) -> None:
+    """``python -m benchmarks.report [RESULTS_JSON]``: rewrite ``docs/performance.md`` and
+    its figures from a results file (default ``benchmarks/results.json``) without measuring
+    again."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=main.__doc__.splitlines()[0])
+    parser.add_argument("results", nargs="?", type=Path, default=RESULTS)
+    args = parser.parse_args(argv)
+    results = json.loads(args.results.read_text(encoding="utf-8"))
+    DOCS.joinpath("performance.md").write_text(
+        markdown(results, DOCS / "figures", "figures/", results.get("smoke", False)),
+        encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()
