@@ -12,6 +12,8 @@ Public API
 ``haze_intensity(r_c, p, haziness)``                       eq. 7 (piecewise linear)
 ``haze_intensity_smooth(r_c, p, haziness, w)``             appendix eqs. 12-15 (rational Bézier)
 ``haze_mapping(...) -> HazeMapping``                       the HAZEMAPPING algorithm (§2.4)
+``HazyGloss(...)``                                         eq. 1 as a lobe (two GGX conductor
+                                                           lobes sharing the mapped Fresnel)
 
 References
 ----------
@@ -27,10 +29,13 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.fresnel import gulbrandsen_to_ior
+from adobe_bsdf.fresnel import ExactConductor, gulbrandsen_to_ior
+from adobe_bsdf.lobes.conductor import Conductor
+from adobe_bsdf.lobes.sum import Sum
+from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["PEAK_MODELS", "wide_roughness", "peak_ratio", "haze_intensity",
-           "haze_intensity_smooth", "HazeMapping", "haze_mapping"]
+           "haze_intensity_smooth", "HazeMapping", "haze_mapping", "HazyGloss"]
 
 #: microfacet models whose peak ratio is implemented: both have D(n) = 1 / (pi ax ay)
 PEAK_MODELS = ("ggx", "beckmann")
@@ -193,3 +198,65 @@ def haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None
     eta = np.where(mirror, np.inf, eta)
     kappa = np.where(mirror, np.inf, kappa)
     return HazeMapping(r, eta, kappa, beta, (ax, ay), alpha_w, p, k_h)
+
+
+class _MappedFresnel:
+    """Exact conductor Fresnel of the mapped index, 1 on the channels whose reflectivity is 1
+    (infinite index). A Fresnel model for ``Conductor`` (``from_cos2``, ``param_shape``)."""
+
+    def __init__(self, eta, kappa):
+        self.mirror = np.isinf(eta)
+        self._exact = ExactConductor(np.where(self.mirror, 1.0, eta),
+                                     np.where(self.mirror, 0.0, kappa))
+        self.param_shape = self._exact.param_shape
+
+    def __repr__(self) -> str:
+        return f"_MappedFresnel({self._exact!r}, mirror={self.mirror})"
+
+    def __call__(self, cos_theta):
+        return np.where(self.mirror, 1.0, self._exact(cos_theta))
+
+    def from_cos2(self, c2):
+        return np.where(self.mirror, 1.0, self._exact.from_cos2(c2))
+
+
+class HazyGloss(Sum):
+    """Hazy gloss, seed 002 eq. 1: (1 - beta) F_r f_n + beta F_r f_w with GGX lobes f_n, f_w
+    of narrow and wide roughness sharing the exact conductor Fresnel F_r, all from the
+    perceptual parameters through ``haze_mapping`` (kept as ``mapping``).
+
+    Separate Smith masking per lobe (the "large patches" reading of §3). Sampling picks the
+    narrow or the wide lobe with probability proportional to its weight times its albedo
+    estimate, and weighs by the whole mixture (``Sum``). Reciprocal, since both lobes are.
+
+    Parameters
+    ----------
+    core_reflectivity, haziness, haze_extent, alpha_x, alpha_y, edge_tint, haze_extent_y,
+    smooth_weight : see ``haze_mapping`` (alpha in (0, inf): a smooth core has no halo shape).
+    """
+
+    def __init__(self, core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None,
+                 edge_tint=0.0, haze_extent_y=None, smooth_weight=None):
+        self.mapping = haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x,
+                                    alpha_y, edge_tint, haze_extent_y, smooth_weight)
+        m = self.mapping
+        fresnel = (_MappedFresnel(m.eta, m.kappa) if np.any(np.isinf(m.eta))
+                   else ExactConductor(m.eta, m.kappa))
+        beta = np.asarray(m.beta)
+        super().__init__(Conductor(*m.alpha_n, fresnel=fresnel),
+                         Conductor(*m.alpha_w, fresnel=fresnel),
+                         weights=[1.0 - beta, beta])
+
+
+def _mirror(wo):
+    return np.array([-wo[0], -wo[1], wo[2]])
+
+
+register(
+    CheckCase("HazyGloss r_c=0.5 beta_h=0.5 a_n=0.05 lambda=5 gold-ish",
+              lambda: HazyGloss([0.9, 0.6, 0.3], 0.5, 5.0, 0.05, edge_tint=0.3), width=0.1,
+              peak=_mirror),
+    CheckCase("HazyGloss dielectric r_c=0.04 beta_h=0.1 a_n=(0.1,0.05) lambda=(4,1)",
+              lambda: HazyGloss(0.04, 0.1, 4.0, 0.1, 0.05, haze_extent_y=1.0), width=0.1,
+              peak=_mirror),
+)

@@ -139,3 +139,75 @@ def test_bad_input(kwargs, name):
             **kwargs}
     with pytest.raises(ValueError, match=name):
         hazy.haze_mapping(**args)
+
+
+# --- the HazyGloss lobe ----------------------------------------------------------------------
+from hypothesis import settings  # noqa: E402
+
+from adobe_bsdf.validation import checks  # noqa: E402
+from adobe_bsdf.validation.chi2 import chi2_test, suggest_grid  # noqa: E402
+from tests.tolerances import CHI2_ALPHA, RECIPROCITY  # noqa: E402
+
+HAZY = {
+    "isotropic": lambda: hazy.HazyGloss([0.9, 0.6, 0.3], 0.5, 5.0, 0.05, edge_tint=0.3),
+    "anisotropic-halo": lambda: hazy.HazyGloss(0.3, 0.7, 6.0, 0.08, haze_extent_y=1.0),
+    "anisotropic-core": lambda: hazy.HazyGloss(0.04, 0.1, 3.0, 0.15, 0.05, smooth_weight=4.0),
+}
+CHI2_CASES = [(k, c) for k in HAZY for c in (1.0, 0.5, 0.1)]
+
+
+def _wo(cos_theta, phi=0.7):
+    s = np.sqrt(1.0 - cos_theta**2)
+    return np.array([s * np.cos(phi), s * np.sin(phi), cos_theta])
+
+
+@pytest.mark.parametrize(("kind", "cos_theta"), CHI2_CASES)
+def test_hazy_gloss_chi2(kind, cos_theta):
+    """sample against pdf (p > 0.01 after Šidák), isotropic and anisotropic halos."""
+    lobe, wo = HAZY[kind](), _wo(cos_theta)
+    alpha_n = max(np.max(a) for a in lobe.mapping.alpha_n)
+    result = chi2_test(lobe, wo, n_samples=500_000, seed=CHI2_CASES.index((kind, cos_theta)),
+                       alpha=CHI2_ALPHA, n_tests=len(CHI2_CASES),
+                       **suggest_grid(2.0 * alpha_n, np.array([-wo[0], -wo[1], wo[2]])))
+    assert result.passed, str(result)
+
+
+@pytest.mark.parametrize("kind", HAZY)
+def test_hazy_gloss_reciprocity_and_finiteness(kind):
+    rng = np.random.default_rng(1)
+    wo, wi = (ab.frame.normalize(rng.normal(size=(2000, 3))) for _ in range(2))
+    lobe = HAZY[kind]()
+    assert checks.reciprocity_error(lobe, wo, wi, rtol=RECIPROCITY).passed
+    s = lobe.sample(wo, rng.random((2000, 3)))
+    for value in (lobe.eval(wo, wi), lobe.pdf(wo, wi), s.weight, s.pdf):
+        assert np.all(np.isfinite(value)) and np.all(value >= 0.0)
+
+
+@settings(max_examples=8, deadline=None)
+@given(r_c=st.floats(0.0, 1.0), beta_h=st.floats(0.0, 1.0), extent=st.floats(0.0, 20.0),
+       alpha=st.floats(0.1, 1.0), g=st.floats(0.0, 1.0), mu=st.floats(0.05, 1.0))
+def test_hazy_gloss_albedo_at_most_one(r_c, beta_h, extent, alpha, g, mu):
+    """Energy: the composite never reflects more than it receives (quadrature, tol 1e-7);
+    its albedo is the weighted sum of its two lobes' (eq. 1 is linear)."""
+    lobe = hazy.HazyGloss(r_c, beta_h, extent, alpha, edge_tint=g)
+    wo = _wo(mu)
+    albedo = lobe.albedo(wo, tol=1e-7)
+    assert np.all(albedo <= 1.0 + 1e-6)
+    parts = sum(w * c.albedo(wo, tol=1e-7) for c, w in zip(lobe.components, lobe.weights,
+                                                          strict=True))
+    np.testing.assert_allclose(albedo, parts, atol=1e-6)
+
+
+def test_hazy_gloss_extremes_are_finite():
+    rng = np.random.default_rng(2)
+    wo, wi = (ab.frame.normalize(rng.normal(size=(500, 3))) for _ in range(2))
+    wo[:3] = [[0, 0, 1.0], [1.0, 0, 0], [np.sqrt(1 - 1e-16), 0, 1e-8]]
+    u = rng.random((500, 3))
+    for r_c in (0.0, 1.0, 0.5):
+        for beta_h in (0.0, 1.0):
+            for extent in (0.0, 50.0):
+                for alpha in (1e-6, 1.0):
+                    lobe = hazy.HazyGloss(r_c, beta_h, extent, alpha, edge_tint=0.5)
+                    s = lobe.sample(wo, u)
+                    for value in (lobe.eval(wo, wi), lobe.pdf(wo, wi), s.weight, s.pdf):
+                        assert np.all(np.isfinite(value)), (r_c, beta_h, extent, alpha)
