@@ -104,6 +104,17 @@ class _Distribution:
             setattr(part, name, value[index])
         return part
 
+    def _stretched_direction(self, wx, wy, wz):
+        """w' = sign(w.z) w stretched to the alpha = 1 configuration and normalised, on
+        components: (ax w'x, ay w'y, |w.z|) / |...|, the first step of visible-normal
+        sampling (smooth elements use alpha = 1; their samples are replaced)."""
+        sign = np.where(wz < 0.0, -1.0, 1.0)
+        x = self._ax * wx
+        x *= sign
+        y = self._ay * wy
+        y *= sign
+        return _normalize(x, y, np.abs(wz))
+
     def _stretched(self, w):
         """|w.z| and the projected roughness term t = sqrt(ax^2 wx^2 + ay^2 wy^2), so that
         alpha(w) tan(theta) = t / |w.z| (Heitz 2014 eq. 80)."""
@@ -277,12 +288,7 @@ class GGX(_Distribution):
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
         """``sample_visible`` on components: returns (mx, my, mz)."""
         ax, ay = self._ax, self._ay
-        sign = np.where(wz < 0.0, -1.0, 1.0)
-        x = ax * wx
-        x *= sign
-        y = ay * wy
-        y *= sign
-        x, y, z = _normalize(x, y, np.abs(wz))
+        x, y, z = self._stretched_direction(wx, wy, wz)
         phi = 2.0 * np.pi * u0
         cz = (1.0 - u1) * (1.0 + z) - z
         sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
@@ -374,9 +380,7 @@ class Beckmann(_Distribution):
         w = np.asarray(w, dtype=np.float64)
         u2 = np.asarray(u2, dtype=np.float64)
         shape = np.broadcast_shapes(w.shape[:-1], u2.shape[:-1], self.param_shape)
-        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
-        sx, sy, sz = _normalize(self.alpha_x * w[..., 0] * sign,
-                                self.alpha_y * w[..., 1] * sign, np.abs(w[..., 2]))
+        sx, sy, sz = self._stretched_direction(w[..., 0], w[..., 1], w[..., 2])
         sin_t = np.hypot(sx, sy)
         with np.errstate(divide="ignore", invalid="ignore"):
             cos_p = np.where(sin_t > 0.0, sx / sin_t, 1.0)

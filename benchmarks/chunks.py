@@ -47,8 +47,7 @@ wo, wi = wo[int(sys.argv[5]) * n:][:n].copy(), wi[int(sys.argv[5]) * n:][:n].cop
 lobe = tp.headline_lobes()[key][1]
 config.set_options(threads=1)
 lobe.eval(wo, wi)
-while time.time() < delay:
-    pass
+time.sleep(max(0.0, delay - time.time()))
 times = []
 for _ in range(rounds):
     t = time.perf_counter()

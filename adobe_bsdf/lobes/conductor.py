@@ -125,7 +125,7 @@ class Conductor(Lobe):
         """``kernel`` on the pairs with both directions above a rough surface only."""
         inside = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
         if np.any(self.distribution.smooth):
-            inside &= ~self.distribution.smooth
+            inside = inside & ~self.distribution.smooth  # may broadcast to the alphas
         return on_support(kernel, inside, wo, wi, compact=self._param_shape() == ())
 
     def _eval_kernel(self, wo, wi, up):

@@ -235,7 +235,7 @@ class Dielectric(Lobe):
         sin2_t = inv_eta * inv_eta * np.maximum(0.0, 1.0 - cos_om * cos_om)
         refracted = sin2_t < 1.0
         cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))  # |wt.m|
-        # F as _terms computes it: from the less dense side (TIR where nothing refracts)
+        # F as _refract computes it: from the less dense side (TIR where nothing refracts)
         (k, eta2), light = _light_side(self.eta, np.where(below, -1.0, 1.0))
         F = np.where(refracted, _dielectric_k(np.where(light, cos_om, cos_t), k, eta2), 1.0)
         choose_r = u[..., 0] < F
