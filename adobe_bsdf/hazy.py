@@ -253,10 +253,10 @@ def _mirror(wo):
 
 
 register(
-    CheckCase("HazyGloss r_c=0.5 beta_h=0.5 a_n=0.05 lambda=5 gold-ish",
+    CheckCase("HazyGloss rc=(.9,.6,.3) bh=0.5",
               lambda: HazyGloss([0.9, 0.6, 0.3], 0.5, 5.0, 0.05, edge_tint=0.3), width=0.1,
               peak=_mirror),
-    CheckCase("HazyGloss dielectric r_c=0.04 beta_h=0.1 a_n=(0.1,0.05) lambda=(4,1)",
+    CheckCase("HazyGloss rc=0.04 bh=0.1 aniso",
               lambda: HazyGloss(0.04, 0.1, 4.0, 0.1, 0.05, haze_extent_y=1.0), width=0.1,
               peak=_mirror),
 )
