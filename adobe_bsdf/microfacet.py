@@ -4,6 +4,9 @@ Public API
 ----------
 ``GGX(alpha_x, alpha_y=None, masking="correlated")`` with ``D(m)``, ``lambda_(w)``, ``G1(w)``,
 ``G2(wo, wi)``, ``sample_visible(w, u2)``, ``pdf_visible(w, m)``.
+``Beckmann(alpha_x, alpha_y=None, masking="correlated")``: the same interface.
+``Mixture(narrow, wide, beta)``: (1 - beta) D_n + beta D_w with its compound Smith masking.
+``distribution(model, alpha_x, alpha_y=None, masking="correlated")``: one of ``MODELS``.
 ``asm_alpha(roughness, anisotropy=0)``: ASM (roughness, anisotropy) -> (alpha_x, alpha_y).
 ``ALPHA_MIN``: alphas below it are smooth (see ``GGX``).
 
@@ -28,7 +31,8 @@ from scipy import special
 from adobe_bsdf import _params
 from adobe_bsdf.frame import dot
 
-__all__ = ["GGX", "Beckmann", "asm_alpha", "ALPHA_MIN", "MASKING"]
+__all__ = ["GGX", "Beckmann", "Mixture", "MODELS", "distribution", "asm_alpha", "ALPHA_MIN",
+           "MASKING"]
 
 #: smallest alpha of a rough lobe. Where both alphas are below it the lobe is smooth (a delta
 #: lobe); where only one is, that axis is raised to ALPHA_MIN (docs/conventions.md).
@@ -121,53 +125,27 @@ class _Distribution:
         z = np.abs(w[..., 2])
         return z, np.hypot(self.alpha_x * w[..., 0], self.alpha_y * w[..., 1])
 
+    # -- Smith masking through S(w) = |wz| (1 + 2 Lambda(w)) -------------------------------
+    # Every Smith form below is a rational function of |wz| and S, exact for any
+    # distribution whose ``projected`` returns S: G1 = 2 |wz| / (|wz| + S) and
+    # 1 + Lambda(wo) + Lambda(wi) = (|zi| S_o + |zo| S_i) / (2 |zo| |zi|).
+    def projected(self, x, y, abs_z):
+        """S(w) = |wz| (1 + 2 Lambda(w)) from the components of w (|wz| given)."""
+        raise NotImplementedError
 
-class GGX(_Distribution):
-    """Anisotropic GGX normal distribution with Smith masking-shadowing.
+    def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
+        """D(h / |h|) of an unnormalised h with |h|^2 = ``length2``; 0 where hz <= 0 unless
+        ``upper`` (the caller knows hz > 0, or masks). Inf or NaN where h = 0."""
+        raise NotImplementedError
 
-    Parameters
-    ----------
-    alpha_x, alpha_y : array_like, in [0, inf)
-        Roughness along the tangent (x) and bitangent (y); ``alpha_y`` defaults to ``alpha_x``.
-    masking : {"correlated", "separable"}
-        ``G2`` form: height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014 eq. 99;
-        pbrt-v4) or separable G1(wo) G1(wi) (Heitz 2014 eq. 43; Mitsuba 3).
-
-    Notes
-    -----
-    ``smooth`` marks elements whose alphas are both below ``ALPHA_MIN``: there D is a Dirac
-    delta, so ``D`` and ``pdf_visible`` return 0, ``sample_visible`` returns the normal and
-    ``G1`` / ``G2`` are 1 (0 at exactly grazing directions).
-    """
-
-    # -- distribution ---------------------------------------------------------------------
-    def D(self, m) -> np.ndarray:
-        """Normal distribution D(m) (Walter et al. 2007 eq. 33, anisotropic form).
-
-        D(m) = 1 / (pi ax ay ((mx/ax)^2 + (my/ay)^2 + mz^2)^2) for mz > 0, else 0.
-        """
-        m = np.asarray(m, dtype=np.float64)
-        e = (m[..., 0] / self._ax) ** 2 + (m[..., 1] / self._ay) ** 2 + m[..., 2] ** 2
-        ok = (m[..., 2] > 0.0) & ~self.smooth
-        return np.where(ok, 1.0 / (np.pi * self._ax * self._ay * np.where(ok, e * e, 1.0)), 0.0)
+    def sample_visible_xyz(self, wx, wy, wz, u0, u1):
+        """``sample_visible`` on components: returns (mx, my, mz)."""
+        raise NotImplementedError
 
     def _projected_alpha(self, w):
-        """|w.z| and S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) (so Lambda = (S/|wz| - 1)/2)."""
+        """|w.z| and S(w) (``projected``)."""
         z = np.abs(w[..., 2])
-        s2 = (self.alpha_x * w[..., 0]) ** 2 + (self.alpha_y * w[..., 1]) ** 2
-        return z, np.sqrt(z * z + s2)
-
-    def lambda_(self, w) -> np.ndarray:
-        """Smith Lambda(w) = (sqrt(1 + (ax^2 wx^2 + ay^2 wy^2)/wz^2) - 1) / 2 (Heitz 2014 eq. 86).
-
-        Written without cancellation as (S - |wz|) / (2 |wz|) = s^2 / (2 |wz| (|wz| + S)).
-        +inf at wz = 0 (the exact limit); 0 where the distribution is smooth.
-        """
-        w = np.asarray(w, dtype=np.float64)
-        z, s = self._projected_alpha(w)
-        s2 = s * s - z * z
-        lam = np.where(z > 0.0, s2 / np.where(z > 0.0, 2.0 * z * (z + s), 1.0), np.inf)
-        return np.where(self.smooth & (z > 0.0), 0.0, lam)
+        return z, self.projected(w[..., 0], w[..., 1], z)
 
     def G1(self, w) -> np.ndarray:
         """Smith masking G1(w) = 1 / (1 + Lambda(w)) = 2 |wz| / (|wz| + S(w)); 0 at wz = 0."""
@@ -215,6 +193,85 @@ class GGX(_Distribution):
         den = zi * so + zo * si
         return np.where(den > 0.0, zi * (zo + so) / np.where(den > 0.0, den, 1.0), 0.0)
 
+    def V_of(self, abs_zo, s_o, abs_zi, s_i):
+        """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``)."""
+        if self.masking == "separable":
+            den = (abs_zo + s_o) * (abs_zi + s_i)
+        else:
+            den = abs_zi * s_o
+            den += abs_zo * s_i
+            den *= 2.0
+        return np.divide(1.0, den, out=den if isinstance(den, np.ndarray) else None)
+
+    def G2_over_G1_of(self, abs_zo, s_o, abs_zi, s_i):
+        """G2(wo, wi) / G1(wo) from |wz| and S of both directions (``G2_over_G1``)."""
+        if self.masking == "separable":
+            return 2.0 * abs_zi / (abs_zi + s_i)
+        return abs_zi * (abs_zo + s_o) / (abs_zi * s_o + abs_zo * s_i)
+
+    def pdf_visible(self, w, m) -> np.ndarray:
+        """Density of visible normals D_w(m) = G1(w) max(0, w.m) D(m) / |wz| (Heitz 2018 eq. 3).
+
+        Written as 2 max(0, w'.m) D(m) / (|wz| + S(w)), finite at grazing ``w``. ``w`` is
+        first turned to the upper hemisphere (w' = sign(wz) w), as ``sample_visible`` does.
+        """
+        w = np.asarray(w, dtype=np.float64)
+        m = np.asarray(m, dtype=np.float64)
+        z, s = self._projected_alpha(w)
+        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
+        cos_wm = np.maximum(0.0, sign * dot(w, m))
+        return np.where(s > 0.0, 2.0 * cos_wm * self.D(m) / np.where(s > 0.0, z + s, 1.0), 0.0)
+
+    def sample_visible(self, w, u2) -> np.ndarray:
+        """Sample a microfacet normal m with density ``pdf_visible(w, m)`` (``u2`` of shape
+        ``(..., 2)``; see ``sample_visible_xyz``)."""
+        w = np.asarray(w, dtype=np.float64)
+        u2 = np.asarray(u2, dtype=np.float64)
+        return _stack(*self.sample_visible_xyz(w[..., 0], w[..., 1], w[..., 2],
+                                               u2[..., 0], u2[..., 1]))
+
+
+class GGX(_Distribution):
+    """Anisotropic GGX normal distribution with Smith masking-shadowing.
+
+    Parameters
+    ----------
+    alpha_x, alpha_y : array_like, in [0, inf)
+        Roughness along the tangent (x) and bitangent (y); ``alpha_y`` defaults to ``alpha_x``.
+    masking : {"correlated", "separable"}
+        ``G2`` form: height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014 eq. 99;
+        pbrt-v4) or separable G1(wo) G1(wi) (Heitz 2014 eq. 43; Mitsuba 3).
+
+    Notes
+    -----
+    ``smooth`` marks elements whose alphas are both below ``ALPHA_MIN``: there D is a Dirac
+    delta, so ``D`` and ``pdf_visible`` return 0, ``sample_visible`` returns the normal and
+    ``G1`` / ``G2`` are 1 (0 at exactly grazing directions).
+    """
+
+    # -- distribution ---------------------------------------------------------------------
+    def D(self, m) -> np.ndarray:
+        """Normal distribution D(m) (Walter et al. 2007 eq. 33, anisotropic form).
+
+        D(m) = 1 / (pi ax ay ((mx/ax)^2 + (my/ay)^2 + mz^2)^2) for mz > 0, else 0.
+        """
+        m = np.asarray(m, dtype=np.float64)
+        e = (m[..., 0] / self._ax) ** 2 + (m[..., 1] / self._ay) ** 2 + m[..., 2] ** 2
+        ok = (m[..., 2] > 0.0) & ~self.smooth
+        return np.where(ok, 1.0 / (np.pi * self._ax * self._ay * np.where(ok, e * e, 1.0)), 0.0)
+
+    def lambda_(self, w) -> np.ndarray:
+        """Smith Lambda(w) = (sqrt(1 + (ax^2 wx^2 + ay^2 wy^2)/wz^2) - 1) / 2 (Heitz 2014 eq. 86).
+
+        Written without cancellation as (S - |wz|) / (2 |wz|) = s^2 / (2 |wz| (|wz| + S)).
+        +inf at wz = 0 (the exact limit); 0 where the distribution is smooth.
+        """
+        w = np.asarray(w, dtype=np.float64)
+        z, s = self._projected_alpha(w)
+        s2 = s * s - z * z
+        lam = np.where(z > 0.0, s2 / np.where(z > 0.0, 2.0 * z * (z + s), 1.0), np.inf)
+        return np.where(self.smooth & (z > 0.0), 0.0, lam)
+
     # -- component forms for the lobes' kernels (no validation, no stacking) ---------------
     def projected(self, x, y, abs_z):
         """S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) from the components of w (|wz| given),
@@ -243,50 +300,11 @@ class GGX(_Distribution):
         D = np.divide(length2 * length2, q)
         return D if upper else np.where(hz > 0.0, D, 0.0)
 
-    def V_of(self, abs_zo, s_o, abs_zi, s_i):
-        """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``)."""
-        if self.masking == "separable":
-            den = (abs_zo + s_o) * (abs_zi + s_i)
-        else:
-            den = abs_zi * s_o
-            den += abs_zo * s_i
-            den *= 2.0
-        return np.divide(1.0, den, out=den if isinstance(den, np.ndarray) else None)
-
-    def G2_over_G1_of(self, abs_zo, s_o, abs_zi, s_i):
-        """G2(wo, wi) / G1(wo) from |wz| and S of both directions (``G2_over_G1``)."""
-        if self.masking == "separable":
-            return 2.0 * abs_zi / (abs_zi + s_i)
-        return abs_zi * (abs_zo + s_o) / (abs_zi * s_o + abs_zo * s_i)
-
     # -- visible normals ------------------------------------------------------------------
-    def pdf_visible(self, w, m) -> np.ndarray:
-        """Density of visible normals D_w(m) = G1(w) max(0, w.m) D(m) / |wz| (Heitz 2018 eq. 3).
-
-        Written as 2 max(0, w'.m) D(m) / (|wz| + S(w)), finite at grazing ``w``. ``w`` is
-        first turned to the upper hemisphere (w' = sign(wz) w), as ``sample_visible`` does.
-        """
-        w = np.asarray(w, dtype=np.float64)
-        m = np.asarray(m, dtype=np.float64)
-        z, s = self._projected_alpha(w)
-        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
-        cos_wm = np.maximum(0.0, sign * dot(w, m))
-        return np.where(s > 0.0, 2.0 * cos_wm * self.D(m) / np.where(s > 0.0, z + s, 1.0), 0.0)
-
-    def sample_visible(self, w, u2) -> np.ndarray:
-        """Sample a microfacet normal m with density ``pdf_visible(w, m)``.
-
-        Spherical-cap method of Dupuy & Benyoub 2023: stretch w' = sign(wz) w to the
-        hemisphere configuration, sample the cap of the unit sphere cut by the plane
-        z = -w_h.z, add w_h, unstretch. ``u2`` has shape ``(..., 2)``.
-        """
-        w = np.asarray(w, dtype=np.float64)
-        u2 = np.asarray(u2, dtype=np.float64)
-        return _stack(*self.sample_visible_xyz(w[..., 0], w[..., 1], w[..., 2],
-                                               u2[..., 0], u2[..., 1]))
-
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
-        """``sample_visible`` on components: returns (mx, my, mz)."""
+        """Visible normal (mx, my, mz) by the spherical-cap method of Dupuy & Benyoub 2023:
+        stretch w' = sign(wz) w to the hemisphere configuration, sample the cap of the unit
+        sphere cut by the plane z = -w_h.z, add w_h, unstretch."""
         ax, ay = self._ax, self._ay
         x, y, z = self._stretched_direction(wx, wy, wz)
         phi = 2.0 * np.pi * u0
@@ -318,9 +336,8 @@ class Beckmann(_Distribution):
         """Normal distribution D(m); 0 for m.z <= 0."""
         m = np.asarray(m, dtype=np.float64)
         ok = (m[..., 2] > 0.0) & ~self.smooth
-        cos2 = np.where(ok, m[..., 2] ** 2, 1.0)
-        e = ((m[..., 0] / self._ax) ** 2 + (m[..., 1] / self._ay) ** 2) / cos2
-        return np.where(ok, np.exp(-e) / (self._pi_ax_ay * cos2 * cos2), 0.0)
+        length2 = np.sum(m * m, axis=-1)
+        return np.where(ok, self.D_of_sum(m[..., 0], m[..., 1], m[..., 2], length2), 0.0)
 
     def lambda_(self, w) -> np.ndarray:
         """Smith Lambda(w), written as exp(-a^2) (1 / (a sqrt(pi)) - erfcx(a)) / 2 (erfc(a) =
@@ -333,43 +350,30 @@ class Beckmann(_Distribution):
         lam = np.where(t == 0.0, 0.0, np.where(z == 0.0, np.inf, lam))
         return np.where(self.smooth & (z > 0.0), 0.0, lam)
 
-    def G1(self, w) -> np.ndarray:
-        """Smith masking 1 / (1 + Lambda(w)); 0 at w.z = 0."""
-        return 1.0 / (1.0 + self.lambda_(w))
-
-    def G2(self, wo, wi) -> np.ndarray:
-        """Height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)), or G1(wo) G1(wi)."""
-        if self.masking == "separable":
-            return self.G1(wo) * self.G1(wi)
-        return 1.0 / (1.0 + self.lambda_(wo) + self.lambda_(wi))
-
-    def V(self, wo, wi) -> np.ndarray:
-        """G2(wo, wi) / (4 |cos theta_o| |cos theta_i|); 0 where a direction is grazing."""
-        den = 4.0 * np.abs(np.asarray(wo)[..., 2] * np.asarray(wi)[..., 2])
+    def projected(self, x, y, abs_z):
+        """S(w) = |wz| erf(a) + t exp(-a^2) / sqrt(pi), with t = sqrt(ax^2 wx^2 + ay^2 wy^2)
+        and a = |wz| / t: Heitz 2014 eq. 83 as S = |wz| (1 + 2 Lambda), a sum of
+        non-negative terms; |wz| at normal incidence (t = 0), t / sqrt(pi) at grazing."""
+        t = np.hypot(self.alpha_x * x, self.alpha_y * y)
         with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(den > 0.0, self.G2(wo, wi) / np.where(den > 0.0, den, 1.0), 0.0)
+            a = abs_z / t
+            s = abs_z * special.erf(a) + t * np.exp(-a * a) / np.sqrt(np.pi)
+        return np.where(t > 0.0, s, abs_z)
 
-    def G2_over_G1(self, wo, wi) -> np.ndarray:
-        """G2(wo, wi) / G1(wo), the weight of visible-normal sampling without Fresnel."""
-        lo = self.lambda_(wo)
-        return (1.0 + lo) * self.G2(wo, wi) if self.masking == "correlated" else self.G1(wi)
+    def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
+        """D(h / |h|) of an unnormalised h: exp(-((hx/ax)^2 + (hy/ay)^2) / hz^2) |h|^4 /
+        (pi ax ay hz^4); 0 where hz <= 0 unless ``upper``."""
+        hz2 = hz * hz
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            g = np.exp(-((hx / self._ax) ** 2 + (hy / self._ay) ** 2) / hz2)
+            # exp(-e) = 0 (underflow, or h in the tangent plane) is the limit D = 0: the
+            # other factor, (1 + tan^2)^2 / (pi ax ay), may then overflow
+            D = np.where(g > 0.0, g * (length2 / hz2) ** 2 / self._pi_ax_ay, 0.0)
+        return D if upper else np.where(hz > 0.0, D, 0.0)
 
-    def pdf_visible(self, w, m) -> np.ndarray:
-        """D_w(m) = G1(w') max(0, w'.m) D(m) / |w.z| with w' = sign(w.z) w (Heitz 2014 eq. 3)."""
-        w = np.asarray(w, dtype=np.float64)
-        m = np.asarray(m, dtype=np.float64)
-        z = np.abs(w[..., 2])
-        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
-        cos_wm = np.maximum(0.0, sign * dot(w, m))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            value = self.G1(w) * cos_wm * self.D(m) / z
-        return np.where(z > 0.0, value, 0.0)
-
-    def sample_visible(self, w, u2) -> np.ndarray:
-        """Sample a microfacet normal m with density ``pdf_visible(w, m)``.
-
-        Heitz & d'Eon 2014: stretch w' = sign(w.z) w to alpha = 1 and rotate it into the
-        x-z plane, (sin theta, 0, cos theta); there the visible slopes are independent, the
+    def sample_visible_xyz(self, wx, wy, wz, u0, u1):
+        """Visible normal (mx, my, mz) after Heitz & d'Eon 2014: stretch w' = sign(w.z) w to
+        alpha = 1 and rotate it into the x-z plane, (sin theta, 0, cos theta); there the visible slopes are independent, the
         slope along y has density exp(-y^2) / sqrt(pi) (y = erfinv(2 u1 - 1)), the slope
         along x has density proportional to (mu - x) exp(-x^2) for x < mu = cot theta, with
         CDF N(x) / N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 + exp(-x^2) / 2, solved for u0 by
@@ -377,24 +381,25 @@ class Beckmann(_Distribution):
         are rotated back, unstretched and turned into the normal (-x, -y, 1) / |...|.
         A uniform below 2^-54 is raised to it (at 0 the slope would be infinite).
         """
-        w = np.asarray(w, dtype=np.float64)
-        u2 = np.asarray(u2, dtype=np.float64)
-        shape = np.broadcast_shapes(w.shape[:-1], u2.shape[:-1], self.param_shape)
-        sx, sy, sz = self._stretched_direction(w[..., 0], w[..., 1], w[..., 2])
+        shape = np.broadcast_shapes(np.shape(wz), np.shape(u0), np.shape(u1), self.param_shape)
+        sx, sy, sz = self._stretched_direction(wx, wy, wz)
         sin_t = np.hypot(sx, sy)
         with np.errstate(divide="ignore", invalid="ignore"):
             cos_p = np.where(sin_t > 0.0, sx / sin_t, 1.0)
             sin_p = np.where(sin_t > 0.0, sy / sin_t, 0.0)
             mu = sz / sin_t  # +inf at normal incidence
         tiny = 2.0**-54  # the smallest u with 2 u - 1 > -1
-        u0 = np.broadcast_to(np.maximum(u2[..., 0], tiny), shape)
-        u1 = np.maximum(u2[..., 1], tiny)
+        u0 = np.broadcast_to(np.maximum(u0, tiny), shape)
+        u1 = np.maximum(u1, tiny)
         y = special.erfinv(2.0 * u1 - 1.0)
         x = _beckmann_visible_slope(np.broadcast_to(mu, shape), u0)
         px = self.alpha_x * (cos_p * x - sin_p * y)
         py = self.alpha_y * (sin_p * x + cos_p * y)
-        m = np.stack(np.broadcast_arrays(*_normalize(-px, -py, np.ones(shape))), axis=-1)
-        return np.where(self.smooth[..., None], np.array([0.0, 0.0, 1.0]), m)
+        mx, my, mz = _normalize(-px, -py, np.ones(shape))
+        if np.any(self.smooth):
+            mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
+                                                                   (1.0, mz)))
+        return mx, my, mz
 
 
 def _beckmann_visible_slope(mu, u):
@@ -431,3 +436,93 @@ def _beckmann_visible_slope(mu, u):
         if done.all():
             break
     return np.where(normal, x0, x)
+
+
+#: the microfacet models a lobe can be built on (``distribution``)
+MODELS = {"ggx": GGX, "beckmann": Beckmann}
+
+
+def distribution(model: str, alpha_x, alpha_y=None, masking: str = "correlated"):
+    """The distribution ``MODELS[model]`` with these alphas and masking form."""
+    return MODELS[_params.choice("model", model, tuple(MODELS))](alpha_x, alpha_y, masking)
+
+
+class Mixture(_Distribution):
+    """The mixed distribution D = (1 - beta) D_n + beta D_w of two rough distributions
+    (seed 002 §3, "intertwined" microsurfaces).
+
+    Its Smith Lambda is linear in D, so Lambda = (1 - beta) Lambda_n + beta Lambda_w: the
+    compound masking-shadowing of seed 002 §3, and S(w) = |wz| (1 + 2 Lambda) mixes with
+    the same weights. Its visible normals are the mixture of the parts' visible normals with
+    weights P_n = (1 - beta) (|wz| + S_n) / (|wz| + S), P_w = 1 - P_n (Heitz 2018 eq. 3 with
+    G1 = 2 |wz| / (|wz| + S)); ``sample_visible_xyz`` picks the part with ``u0``.
+
+    Parameters
+    ----------
+    narrow, wide : GGX or Beckmann
+        Rough everywhere (no smooth elements), with the same masking form.
+    beta : array_like in [0, 1]
+        Weight of ``wide``.
+    """
+
+    def __init__(self, narrow: _Distribution, wide: _Distribution, beta):
+        for name, part in (("narrow", narrow), ("wide", wide)):
+            if not isinstance(part, (GGX, Beckmann)) or np.any(part.smooth):
+                raise ValueError(f"{name} = {part!r}: allowed a GGX or Beckmann distribution "
+                                 f"with every alpha >= ALPHA_MIN = {ALPHA_MIN}")
+        if narrow.masking != wide.masking:
+            raise ValueError(f"wide.masking = {wide.masking!r}: allowed the narrow part's "
+                             f"{narrow.masking!r}")
+        self.narrow, self.wide = narrow, wide
+        self.beta = _params.real("beta", beta, 0.0, 1.0)
+        self.masking = narrow.masking
+        self.smooth = np.zeros(self.param_shape, dtype=bool)
+
+    def __repr__(self) -> str:
+        return f"Mixture({self.narrow!r}, {self.wide!r}, beta={self.beta})"
+
+    @property
+    def param_shape(self) -> tuple:
+        return np.broadcast_shapes(self.narrow.param_shape, self.wide.param_shape,
+                                   self.beta.shape)
+
+    def take(self, shape: tuple, index) -> Mixture:
+        if self.param_shape == ():
+            return self
+        part = object.__new__(Mixture)
+        part.narrow = self.narrow.take(shape, index)
+        part.wide = self.wide.take(shape, index)
+        part.beta = np.broadcast_to(self.beta, shape).reshape(-1)[index]
+        part.masking = self.masking
+        part.smooth = np.zeros(np.shape(part.beta), dtype=bool)
+        return part
+
+    def _mix(self, narrow, wide):
+        return (1.0 - self.beta) * narrow + self.beta * wide
+
+    def D(self, m) -> np.ndarray:
+        return self._mix(self.narrow.D(m), self.wide.D(m))
+
+    def lambda_(self, w) -> np.ndarray:
+        return self._mix(self.narrow.lambda_(w), self.wide.lambda_(w))
+
+    def projected(self, x, y, abs_z):
+        return self._mix(self.narrow.projected(x, y, abs_z), self.wide.projected(x, y, abs_z))
+
+    def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
+        return self._mix(self.narrow.D_of_sum(hx, hy, hz, length2, upper),
+                         self.wide.D_of_sum(hx, hy, hz, length2, upper))
+
+    def sample_visible_xyz(self, wx, wy, wz, u0, u1):
+        """The narrow part's visible normal where u0 < P_n (``u0`` rescaled to [0, 1) inside
+        the chosen interval), else the wide part's."""
+        z = np.abs(wz)
+        p_n = (1.0 - self.beta) * (z + self.narrow.projected(wx, wy, z))
+        p_n /= z + self.projected(wx, wy, z)
+        narrow = u0 < p_n
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u0 = np.where(narrow, u0 / p_n, (u0 - p_n) / (1.0 - p_n))
+        u0 = np.clip(u0, 0.0, np.nextafter(1.0, 0.0))  # removes rounding only
+        m_n = self.narrow.sample_visible_xyz(wx, wy, wz, u0, u1)
+        m_w = self.wide.sample_visible_xyz(wx, wy, wz, u0, u1)
+        return tuple(np.where(narrow, a, b) for a, b in zip(m_n, m_w, strict=True))

@@ -1,4 +1,4 @@
-"""Rough conductor: GGX microfacet reflection with any Fresnel model."""
+"""Rough conductor: microfacet reflection (GGX, Beckmann or a mixture) with any Fresnel model."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 from adobe_bsdf import fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance, on_support
 from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
-from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.microfacet import distribution
 from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Conductor"]
@@ -16,15 +16,16 @@ __all__ = ["Conductor"]
 class Conductor(Lobe):
     """Microfacet reflection f = F(wo.h) D(h) G2(wo, wi) / (4 |cos o| |cos i|).
 
-    Walter et al. 2007 eq. 20 with the anisotropic GGX of ``adobe_bsdf.microfacet``; sampled
-    by visible normals (weight F G2 / G1(wo)). One-sided: 0 unless both directions are
+    Walter et al. 2007 eq. 20 with an anisotropic distribution of ``adobe_bsdf.microfacet``
+    (GGX by default; ``Conductor.over`` takes any, e.g. a ``Mixture``); sampled by visible
+    normals (weight F G2 / G1(wo)). One-sided: 0 unless both directions are
     above the surface. Where both alphas are below ``ALPHA_MIN`` it is a perfect mirror (a
     delta lobe with weight F(cos theta_o)).
 
     Parameters
     ----------
     alpha_x, alpha_y : array_like in [0, inf)
-        GGX roughness along the tangent and the bitangent (``alpha_y`` defaults to ``alpha_x``).
+        Roughness along the tangent and the bitangent (``alpha_y`` defaults to ``alpha_x``).
     fresnel : callable or None
         ``fresnel(cos_theta) -> (..., 3)`` or ``(...)``, e.g.
         ``ab.fresnel.ExactConductor(eta, k)``; ``None`` is F = 1. The models of
@@ -32,21 +33,33 @@ class Conductor(Lobe):
         shape, so large batches run in chunks on threads); any other callable works too.
     masking : {"correlated", "separable"}
         See ``GGX``.
+    model : {"ggx", "beckmann"}
+        The microfacet distribution (``adobe_bsdf.microfacet.MODELS``). The energy tables
+        (``albedo(method="table")``) exist for GGX only.
     """
 
     flags = Flags.REFLECTION | Flags.GLOSSY | Flags.DELTA
 
-    def __init__(self, alpha_x, alpha_y=None, fresnel=None, masking: str = "correlated"):
+    def __init__(self, alpha_x, alpha_y=None, fresnel=None, masking: str = "correlated",
+                 model: str = "ggx"):
+        self._init(distribution(model, alpha_x, alpha_y, masking), fresnel)
+
+    @classmethod
+    def over(cls, microfacets, fresnel=None) -> Conductor:
+        """The lobe over ``microfacets``, any distribution of ``adobe_bsdf.microfacet``."""
+        lobe = object.__new__(cls)
+        lobe._init(microfacets, fresnel)
+        return lobe
+
+    def _init(self, microfacets, fresnel):
         if fresnel is not None and not callable(fresnel):
             raise ValueError(f"fresnel = {fresnel!r} is not callable (allowed: None or a "
                              "callable cos_theta -> reflectance)")
-        self.distribution = GGX(alpha_x, alpha_y, masking)
+        self.distribution = microfacets
         self.fresnel = fresnel
 
     def __repr__(self) -> str:
-        d = self.distribution
-        return (f"Conductor(alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
-                f"fresnel={self.fresnel!r}, masking={d.masking!r})")
+        return f"{type(self).__name__}.over({self.distribution!r}, fresnel={self.fresnel!r})"
 
     def _param_shape(self):
         if self.fresnel is None:

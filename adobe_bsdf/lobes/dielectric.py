@@ -1,4 +1,4 @@
-"""Rough dielectric interface: GGX microfacet reflection and refraction, both sides."""
+"""Rough dielectric interface: microfacet reflection and refraction, both sides."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
-from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.microfacet import distribution
 from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Dielectric", "interface_energy_scale"]
@@ -63,21 +63,34 @@ class Dielectric(Lobe):
     eta : array_like in (0, inf)
         n_below / n_above (e.g. 1.5 for glass under air, 1/1.5 for air under glass).
     alpha_x, alpha_y : array_like in [0, inf)
-        GGX roughness (``alpha_y`` defaults to ``alpha_x``).
+        Roughness (``alpha_y`` defaults to ``alpha_x``).
     masking : {"correlated", "separable"}
         See ``GGX``; the same G2 is used for reflection and transmission (design.md).
+    model : {"ggx", "beckmann"}
+        The microfacet distribution (GGX by default; ``Dielectric.over`` takes any of
+        ``adobe_bsdf.microfacet``, e.g. a ``Mixture``). The energy tables exist for GGX only.
     """
 
     flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.GLOSSY | Flags.DELTA
 
-    def __init__(self, eta, alpha_x, alpha_y=None, masking: str = "correlated"):
+    def __init__(self, eta, alpha_x, alpha_y=None, masking: str = "correlated",
+                 model: str = "ggx"):
+        self._init(eta, distribution(model, alpha_x, alpha_y, masking))
+
+    @classmethod
+    def over(cls, eta, microfacets) -> Dielectric:
+        """The interface of index ``eta`` over ``microfacets``, any distribution of
+        ``adobe_bsdf.microfacet``."""
+        lobe = object.__new__(cls)
+        lobe._init(eta, microfacets)
+        return lobe
+
+    def _init(self, eta, microfacets):
         self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
-        self.distribution = GGX(alpha_x, alpha_y, masking)
+        self.distribution = microfacets
 
     def __repr__(self) -> str:
-        d = self.distribution
-        return (f"Dielectric(eta={self.eta}, alpha_x={d.alpha_x}, alpha_y={d.alpha_y}, "
-                f"masking={d.masking!r})")
+        return f"{type(self).__name__}.over({self.eta!r}, {self.distribution!r})"
 
     def _param_shape(self):
         return np.broadcast_shapes(self.eta.shape, self.distribution.param_shape)

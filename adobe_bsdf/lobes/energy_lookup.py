@@ -16,8 +16,11 @@ __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "dielectric_ener
 
 def table_alpha(distribution: GGX) -> np.ndarray:
     """The isotropic alpha of the tables: sqrt(alpha_x alpha_y), 0 where smooth; checked to
-    lie within the tables' range."""
+    lie within the tables' range. The tables hold GGX energy: other distributions raise."""
     d = distribution
+    if not isinstance(d, GGX):
+        raise ValueError(f"distribution = {d!r}: the energy tables hold GGX only (allowed: "
+                         "a GGX distribution; use albedo method 'quadrature' or 'mc')")
     alpha = np.where(d.smooth, 0.0, np.sqrt(d.alpha_x * d.alpha_y))
     return _params.real("sqrt(alpha_x alpha_y)", alpha, 0.0, tables.ALPHA_MAX)
 
