@@ -23,3 +23,7 @@ FURNACE_TABLE = 1e-3
 FURNACE_TABLE_DIELECTRIC = 2e-3
 #: reciprocity of the table-based terms (acceptance: 1e-10)
 RECIPROCITY_TABLE = 1e-10
+#: below the smallest normal float64 a value keeps fewer significant bits (IEEE 754 gradual
+#: underflow): relative comparisons measure differences there absolutely (the Beckmann tail
+#: reaches it, exp(-e) for e > 708)
+SUBNORMAL = 2.2250738585072014e-308

@@ -213,6 +213,7 @@ register(
     CheckCase("Conductor a=1 F=1", lambda: Conductor(1.0), cos_theta_o=(1.0, 0.5, 0.05),
               expected_albedo=_one_minus_ln2),
     CheckCase("Conductor a=0.1 F=1", lambda: Conductor(0.1), width=0.2, peak=_mirror),
+    CheckCase("Conductor Beckmann a=0.3 F=1", lambda: Conductor(0.3, model="beckmann")),
     CheckCase("Conductor a=(0.5,0.1) gold", lambda: Conductor(
         0.5, 0.1, fresnel=fresnel.ExactConductor(eta=(0.143, 0.374, 1.442),
                                                  k=(3.983, 2.385, 1.603)))),

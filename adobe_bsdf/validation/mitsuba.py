@@ -256,8 +256,16 @@ def _rgb(name, value):
     return {"type": "rgb", "value": arr.tolist()}
 
 
-def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1.0)) -> MitsubaBSDF:
-    """Mitsuba's ``roughconductor``: GGX, visible-normal sampling, complex IOR ``eta + i k``.
+def _model(model):
+    if model not in ("ggx", "beckmann"):
+        raise ValueError(f"model = {model!r} is not one of ('ggx', 'beckmann')")
+    return model
+
+
+def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1.0),
+                      model: str = "ggx") -> MitsubaBSDF:
+    """Mitsuba's ``roughconductor``: GGX (or Beckmann, ``model``), visible-normal sampling,
+    complex IOR ``eta + i k``.
 
     Parameters
     ----------
@@ -267,6 +275,8 @@ def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1
     eta, k : float or array_like (3,)
         Real and imaginary parts of the RGB refractive index relative to the outside. The
         default ``eta = 0`` makes Mitsuba's conductor Fresnel exactly 1 for every ``k``.
+    model : {"ggx", "beckmann"}
+        Mitsuba's ``distribution``.
 
     Returns
     -------
@@ -276,7 +286,7 @@ def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1
     return MitsubaBSDF(
         {
             "type": "roughconductor",
-            "distribution": "ggx",
+            "distribution": _model(model),
             "sample_visible": True,
             "alpha_u": alpha_x,
             "alpha_v": alpha_y,
@@ -286,8 +296,10 @@ def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1
     )
 
 
-def mitsuba_dielectric(eta, alpha_x, alpha_y=None, ext_ior=1.0) -> MitsubaBSDF:
-    """Mitsuba's ``roughdielectric``: GGX, visible-normal sampling, reflection + transmission.
+def mitsuba_dielectric(eta, alpha_x, alpha_y=None, ext_ior=1.0,
+                       model: str = "ggx") -> MitsubaBSDF:
+    """Mitsuba's ``roughdielectric``: GGX (or Beckmann, ``model``), visible-normal sampling,
+    reflection + transmission.
 
     Parameters
     ----------
@@ -299,6 +311,8 @@ def mitsuba_dielectric(eta, alpha_x, alpha_y=None, ext_ior=1.0) -> MitsubaBSDF:
     ext_ior : float
         Index above the surface (Mitsuba's ``ext_ior``); only ``eta`` matters, this chooses
         how Mitsuba is told it (e.g. ``eta = 1/1.5`` as ``int_ior = 1``, ``ext_ior = 1.5``).
+    model : {"ggx", "beckmann"}
+        Mitsuba's ``distribution``.
 
     Returns
     -------
@@ -311,7 +325,7 @@ def mitsuba_dielectric(eta, alpha_x, alpha_y=None, ext_ior=1.0) -> MitsubaBSDF:
     return MitsubaBSDF(
         {
             "type": "roughdielectric",
-            "distribution": "ggx",
+            "distribution": _model(model),
             "sample_visible": True,
             "alpha_u": alpha_x,
             "alpha_v": alpha_y,
