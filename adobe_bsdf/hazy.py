@@ -12,8 +12,11 @@ Public API
 ``haze_intensity(r_c, p, haziness)``                       eq. 7 (piecewise linear)
 ``haze_intensity_smooth(r_c, p, haziness, w)``             appendix eqs. 12-15 (rational Bézier)
 ``haze_mapping(...) -> HazeMapping``                       the HAZEMAPPING algorithm (§2.4)
-``HazyGloss(...)``                                         eq. 1 as a lobe (two GGX conductor
+``HazyGloss(...)``                                         eq. 1 as a lobe (two conductor
                                                            lobes sharing the mapped Fresnel)
+``HazyDielectric(...)``                                    the two-component BTDF of §4.2
+                                                           (Fig. 13) over ``Dielectric``
+Both lobes take ``model`` ("ggx", "beckmann") and ``compound_masking`` (§3).
 
 References
 ----------
@@ -29,13 +32,16 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf.frame import refract
 from adobe_bsdf.fresnel import ExactConductor, gulbrandsen_to_ior
 from adobe_bsdf.lobes.conductor import Conductor
+from adobe_bsdf.lobes.dielectric import Dielectric
 from adobe_bsdf.lobes.sum import Sum
+from adobe_bsdf.microfacet import Mixture, distribution
 from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["PEAK_MODELS", "wide_roughness", "peak_ratio", "haze_intensity",
-           "haze_intensity_smooth", "HazeMapping", "haze_mapping", "HazyGloss"]
+           "haze_intensity_smooth", "HazeMapping", "haze_mapping", "HazyGloss", "HazyDielectric"]
 
 #: microfacet models whose peak ratio is implemented: both have D(n) = 1 / (pi ax ay)
 PEAK_MODELS = ("ggx", "beckmann")
@@ -191,7 +197,7 @@ def haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None
     r_hat = r_hat_c + (1.0 - p) * k_h
     with np.errstate(divide="ignore", invalid="ignore"):  # r^_c = 0: no haze
         scale = np.where(r_hat_c > 0.0, r_hat / r_hat_c, 1.0)
-        beta = np.where(r_hat > 0.0, k_h / r_hat, 0.0)
+        beta = np.where(r_hat > 0.0, np.minimum(k_h / r_hat, 1.0), 0.0)  # (rounding: eq. 6)
     r = np.minimum(r_c * scale[..., None], 1.0)  # (1 + rounding: r <= 1 by eq. 6)
     mirror = r >= 1.0
     eta, kappa = gulbrandsen_to_ior(np.where(mirror, 0.0, r), g)
@@ -220,36 +226,107 @@ class _MappedFresnel:
         return np.where(self.mirror, 1.0, self._exact.from_cos2(c2))
 
 
-class HazyGloss(Sum):
-    """Hazy gloss, seed 002 eq. 1: (1 - beta) F_r f_n + beta F_r f_w with GGX lobes f_n, f_w
-    of narrow and wide roughness sharing the exact conductor Fresnel F_r, all from the
-    perceptual parameters through ``haze_mapping`` (kept as ``mapping``).
+def _narrow_and_wide(mapping: HazeMapping, model: str, compound_masking: bool, make):
+    """``(components, weights)`` of a ``Sum`` for eq. 1 with ``make(distribution) -> Lobe``.
 
-    Separate Smith masking per lobe (the "large patches" reading of §3). Sampling picks the
-    narrow or the wide lobe with probability proportional to its weight times its albedo
-    estimate, and weighs by the whole mixture (``Sum``). Reciprocal, since both lobes are.
+    Separate masking (the "large patches" reading of §3): two lobes weighted 1 - beta and
+    beta. Compound masking (the "intertwined" reading, Lambda = (1 - beta) Lambda_n +
+    beta Lambda_w): one lobe over the ``Mixture`` of the two distributions, whose Smith
+    Lambda is that compound Lambda.
+    """
+    narrow = distribution(model, *mapping.alpha_n)
+    wide = distribution(model, *mapping.alpha_w)
+    if compound_masking:
+        return [make(Mixture(narrow, wide, mapping.beta))], None
+    beta = np.asarray(mapping.beta)
+    return [make(narrow), make(wide)], [1.0 - beta, beta]
+
+
+class HazyGloss(Sum):
+    """Hazy gloss, seed 002 eq. 1: (1 - beta) F_r f_n + beta F_r f_w with microfacet lobes
+    f_n, f_w of narrow and wide roughness sharing the exact conductor Fresnel F_r, all from
+    the perceptual parameters through ``haze_mapping`` (kept as ``mapping``).
+
+    Sampling picks the narrow or the wide lobe with probability proportional to its weight
+    times its albedo estimate, and weighs by the whole mixture (``Sum``); with compound
+    masking the one lobe samples the visible normals of the mixed distribution. Reciprocal.
 
     Parameters
     ----------
     core_reflectivity, haziness, haze_extent, alpha_x, alpha_y, edge_tint, haze_extent_y,
-    smooth_weight : see ``haze_mapping`` (alpha in (0, inf): a smooth core has no halo shape).
+    smooth_weight, model : see ``haze_mapping`` (alpha in (0, inf): a smooth core has no
+        halo shape).
+    compound_masking : bool
+        False: separate Smith masking per lobe (§3, "large patches"); True: the compound
+        Lambda = (1 - beta) Lambda_n + beta Lambda_w (§3, "intertwined"; alphas >=
+        ``microfacet.ALPHA_MIN``).
     """
 
     def __init__(self, core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None,
-                 edge_tint=0.0, haze_extent_y=None, smooth_weight=None):
+                 edge_tint=0.0, haze_extent_y=None, smooth_weight=None, model: str = "ggx",
+                 compound_masking: bool = False):
         self.mapping = haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x,
-                                    alpha_y, edge_tint, haze_extent_y, smooth_weight)
+                                    alpha_y, edge_tint, haze_extent_y, smooth_weight, model)
         m = self.mapping
         fresnel = (_MappedFresnel(m.eta, m.kappa) if np.any(np.isinf(m.eta))
                    else ExactConductor(m.eta, m.kappa))
-        beta = np.asarray(m.beta)
-        super().__init__(Conductor(*m.alpha_n, fresnel=fresnel),
-                         Conductor(*m.alpha_w, fresnel=fresnel),
-                         weights=[1.0 - beta, beta])
+        components, weights = _narrow_and_wide(
+            m, model, compound_masking, lambda d: Conductor.over(d, fresnel))
+        super().__init__(*components, weights=weights)
+
+
+class HazyDielectric(Sum):
+    """Hazy gloss on a dielectric interface (seed 002 §4.2, Fig. 13 left): "the same physical
+    parameters (beta, eta + i kappa, alpha_{n,w}) in a two-component BTDF of a form similar
+    to Equation 1", (1 - beta) f_n + beta f_w with rough ``Dielectric`` lobes (reflection and
+    refraction) of narrow and wide roughness and the one index eta = n_below / n_above.
+
+    The index comes from ``haze_mapping`` with edge tint 0: eta = (1 + sqrt(r)) /
+    (1 - sqrt(r)) (Gulbrandsen, kappa = 0) of the global reflectivity r, which grows with
+    the haziness (§5: "transmitted radiance is affected with increased haziness"). Light may
+    arrive from either side (index 1 / eta below). Generalized reciprocity holds, as for
+    each ``Dielectric``.
+
+    Parameters
+    ----------
+    core_reflectivity : array_like in [0, 1)
+        Scalar r_c (a dielectric's reflectivity is grey).
+    haziness, haze_extent, alpha_x, alpha_y, haze_extent_y, smooth_weight, model,
+    compound_masking : see ``HazyGloss``. The mapped r must stay below 1 (an infinite index):
+        r = 1 where haziness = 1 and r_c >= p (eq. 7's energy bound reached), which raises.
+    """
+
+    def __init__(self, core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None,
+                 haze_extent_y=None, smooth_weight=None, model: str = "ggx",
+                 compound_masking: bool = False):
+        r_c = _params.real("core_reflectivity", core_reflectivity, 0.0, 1.0, hi_open=True)
+        self.mapping = haze_mapping(r_c[..., None], haziness, haze_extent, alpha_x, alpha_y,
+                                    0.0, haze_extent_y, smooth_weight, model)
+        m = self.mapping
+        if np.any(m.reflectivity >= 1.0):
+            raise ValueError(f"haziness = {haziness!r} with core_reflectivity = "
+                             f"{core_reflectivity!r} maps to reflectivity 1 (an infinite "
+                             "index); allowed: haziness < 1 where r_c >= p")
+        #: n_below / n_above of the interface (``Dielectric.eta``)
+        self.eta = m.eta[..., 0]
+        components, weights = _narrow_and_wide(
+            m, model, compound_masking, lambda d: Dielectric.over(self.eta, d))
+        super().__init__(*components, weights=weights)
 
 
 def _mirror(wo):
     return np.array([-wo[0], -wo[1], wo[2]])
+
+
+def _glass():
+    return HazyDielectric(0.04, 0.3, 4.0, 0.05, compound_masking=True)
+
+
+def _glass_peak(wo):
+    """The refracted direction of the mean normal (the mirror one under total reflection)."""
+    eta = float(_glass().eta)
+    wt, ok = refract(np.asarray(wo), np.array([0.0, 0.0, 1.0]), eta if wo[2] > 0 else 1 / eta)
+    return wt if ok else _mirror(wo)
 
 
 register(
@@ -259,4 +336,10 @@ register(
     CheckCase("HazyGloss rc=0.04 bh=0.1 aniso",
               lambda: HazyGloss(0.04, 0.1, 4.0, 0.1, 0.05, haze_extent_y=1.0), width=0.1,
               peak=_mirror),
+    CheckCase("HazyGloss Beckmann compound bh=0.6",
+              lambda: HazyGloss(0.5, 0.6, 4.0, 0.06, edge_tint=0.8, model="beckmann",
+                                compound_masking=True), width=0.12, peak=_mirror),
+    CheckCase("HazyDielectric rc=0.04 bh=0.3 compound", _glass,
+              cos_theta_o=(1.0, 0.5, 0.05, -0.5), width=0.05,
+              peak=_glass_peak),
 )

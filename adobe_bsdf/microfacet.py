@@ -372,11 +372,13 @@ class Beckmann(_Distribution):
         return D if upper else np.where(hz > 0.0, D, 0.0)
 
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
-        """Visible normal (mx, my, mz) after Heitz & d'Eon 2014: stretch w' = sign(w.z) w to
-        alpha = 1 and rotate it into the x-z plane, (sin theta, 0, cos theta); there the visible slopes are independent, the
-        slope along y has density exp(-y^2) / sqrt(pi) (y = erfinv(2 u1 - 1)), the slope
-        along x has density proportional to (mu - x) exp(-x^2) for x < mu = cot theta, with
-        CDF N(x) / N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 + exp(-x^2) / 2, solved for u0 by
+        """Visible normal (mx, my, mz) after Heitz & d'Eon 2014.
+
+        Stretch w' = sign(w.z) w to alpha = 1 and rotate it into the x-z plane,
+        (sin theta, 0, cos theta). There the visible slopes are independent: the slope along
+        y has density exp(-y^2) / sqrt(pi) (y = erfinv(2 u1 - 1)); the slope along x has
+        density proportional to (mu - x) exp(-x^2) for x < mu = cot theta, with CDF
+        N(x) / N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 + exp(-x^2) / 2, solved for u0 by
         Newton's method safeguarded by bisection on [SLOPE_MIN, mu] to rounding. The slopes
         are rotated back, unstretched and turned into the normal (-x, -y, 1) / |...|.
         A uniform below 2^-54 is raised to it (at 0 the slope would be infinite).

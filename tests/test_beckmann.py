@@ -9,11 +9,10 @@ from scipy import special
 
 import adobe_bsdf as ab
 from adobe_bsdf.microfacet import Beckmann, _beckmann_visible_slope
+from adobe_bsdf.validation import checks
 from adobe_bsdf.validation.chi2 import chi2_test, suggest_grid
 from tests.test_microfacet import ALPHAS, hemisphere_integral, sph, visible_integral
-from adobe_bsdf.validation import checks
-from tests.tolerances import (CHI2_ALPHA, EXACT, FURNACE, QUADRATURE, RECIPROCITY, SUBNORMAL,
-                              WEIGHT)
+from tests.tolerances import CHI2_ALPHA, EXACT, FURNACE, QUADRATURE, RECIPROCITY, SUBNORMAL, WEIGHT
 
 
 @pytest.mark.parametrize(("ax", "ay"), ALPHAS)
