@@ -60,3 +60,13 @@ def test_bad_weights_are_rejected(weights, message):
 def test_non_lobe_components_are_rejected():
     with pytest.raises(ValueError, match="components"):
         Sum(Lambert(), "metal")
+
+
+def test_one_direction_with_a_batch_of_uniforms():
+    """sample(wo (3,), u (n, 3)) is the same as with wo repeated n times."""
+    mix = Sum(Lambert(0.5), Conductor(0.2), weights=[0.4, 0.6])
+    wo = np.array([0.3, 0.0, np.sqrt(0.91)])
+    _, _, u = _pairs(500)
+    one, many = mix.sample(wo, u), mix.sample(np.broadcast_to(wo, u.shape), u)
+    for a, b in zip(one, many, strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -131,6 +131,7 @@ class Sum(Lobe):
         if not self.components:
             return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
                               np.full(batch, int(Flags.NONE)))
+        wo = np.broadcast_to(wo, batch + (3,))  # one wo for a batch of uniforms
         P = self._probabilities(wo)
         P = np.broadcast_to(P, P.shape[:1] + np.broadcast_shapes(P.shape[1:], u.shape[:-1]))
         cdf = np.cumsum(P, axis=0)
