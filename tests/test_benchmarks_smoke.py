@@ -153,3 +153,19 @@ def test_markdown_written(smoke):
     for name in ("performance_throughput.png", "performance_active_lobes.png"):
         assert (out / "figures" / name).stat().st_size > 0
         assert f"figures/{name}" in text
+
+
+def test_hazy_report_smoke(tmp_path):
+    """``python -m benchmarks.hazy_report --smoke`` writes its page into the given folder
+    only, with every section."""
+    page = ROOT / "docs" / "hazy_measured.md"
+    before = page.stat().st_mtime_ns if page.exists() else None
+    proc = subprocess.run([sys.executable, "-m", "benchmarks.hazy_report", "--smoke", "--out",
+                           str(tmp_path)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    assert (page.stat().st_mtime_ns if page.exists() else None) == before
+    text = (tmp_path / "hazy_measured.md").read_text(encoding="utf-8")
+    for heading in ("Peak ratio", "core peak", "Compound against separate", "two-component BTDF",
+                    "Polar slices"):
+        assert heading in text, heading
+    assert "| ggx |" in text and "| beckmann |" in text

@@ -1,8 +1,10 @@
 """Lobes: one small class per BSDF lobe, each with ``eval``, ``pdf``, ``sample``, ``albedo``.
 
 ``Lambert(albedo)``                                         ideal diffuse reflection
-``Conductor(alpha_x, alpha_y=None, fresnel=None, masking)`` rough GGX reflection
-``Dielectric(eta, alpha_x, alpha_y=None, masking)``         rough GGX reflection + refraction
+``Conductor(alpha_x, alpha_y=None, fresnel=None, masking, model)`` rough reflection
+``Dielectric(eta, alpha_x, alpha_y=None, masking, model)``  rough reflection + refraction
+                                                            (model "ggx" or "beckmann"; ``.over``
+                                                            takes any microfacet distribution)
 ``Sum(*lobes)``                                             sum, sampled as a mixture
 ``ConductorMultipleScattering`` / ``ConductorMS``           Kulla–Conty for metals (x base colour^2)
 ``DielectricMultipleScattering`` / ``DielectricMS``         Kulla–Conty for rough dielectrics

@@ -256,10 +256,14 @@ def _rgb(name, value):
     return {"type": "rgb", "value": arr.tolist()}
 
 
-def _model(model):
+def _microfacets(model, alpha_x, alpha_y) -> dict:
+    """The plugin properties of a rough Mitsuba BSDF: distribution, visible-normal sampling,
+    validated alphas."""
     if model not in ("ggx", "beckmann"):
         raise ValueError(f"model = {model!r} is not one of ('ggx', 'beckmann')")
-    return model
+    alpha_x, alpha_y = _alphas(alpha_x, alpha_y)
+    return {"distribution": model, "sample_visible": True, "alpha_u": alpha_x,
+            "alpha_v": alpha_y}
 
 
 def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1.0),
@@ -282,14 +286,10 @@ def mitsuba_conductor(alpha_x, alpha_y=None, eta=(0.0, 0.0, 0.0), k=(1.0, 1.0, 1
     -------
     MitsubaBSDF
     """
-    alpha_x, alpha_y = _alphas(alpha_x, alpha_y)
     return MitsubaBSDF(
         {
             "type": "roughconductor",
-            "distribution": _model(model),
-            "sample_visible": True,
-            "alpha_u": alpha_x,
-            "alpha_v": alpha_y,
+            **_microfacets(model, alpha_x, alpha_y),
             "eta": _rgb("eta", eta),
             "k": _rgb("k", k),
         }
@@ -318,17 +318,14 @@ def mitsuba_dielectric(eta, alpha_x, alpha_y=None, ext_ior=1.0,
     -------
     MitsubaBSDF
     """
-    alpha_x, alpha_y = _alphas(alpha_x, alpha_y)
+    props = _microfacets(model, alpha_x, alpha_y)
     for name, v in (("eta", eta), ("ext_ior", ext_ior)):
         if not (np.isfinite(v) and v > 0):
             raise ValueError(f"{name} = {v!r} is outside the allowed range (0, inf)")
     return MitsubaBSDF(
         {
             "type": "roughdielectric",
-            "distribution": _model(model),
-            "sample_visible": True,
-            "alpha_u": alpha_x,
-            "alpha_v": alpha_y,
+            **props,
             "int_ior": float(eta) * float(ext_ior),
             "ext_ior": float(ext_ior),
         }
