@@ -408,7 +408,8 @@ def _beckmann_visible_slope(mu, u):
     """The x in [SLOPE_MIN, mu] with N(x) = u N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 +
     exp(-x^2) / 2 (``Beckmann.sample_visible``); x = erfinv(2 u - 1) where mu = inf. Newton
     steps that leave the bracket are replaced by bisection; at most 100 steps (bisection
-    alone would reach rounding in 60)."""
+    alone would reach rounding in 60). Each element stops at its own convergence, so its
+    result does not depend on the rest of the batch (chunking is bit-identical)."""
     mu = np.asarray(mu, dtype=np.float64)
     u = np.asarray(u, dtype=np.float64)
     normal = np.isinf(mu)
@@ -425,6 +426,7 @@ def _beckmann_visible_slope(mu, u):
     lo = np.full(m.shape, SLOPE_MIN)
     hi = m.copy()
     x = np.clip(x0, lo, hi)
+    active = ~normal  # an element stops at its own convergence: no batch dependence
     for _ in range(100):
         g = n_of(x) - target
         lo = np.where(g < 0.0, x, lo)
@@ -434,8 +436,9 @@ def _beckmann_visible_slope(mu, u):
         inside = (step > lo) & (step < hi)
         new = np.where(inside, step, 0.5 * (lo + hi))
         done = (g == 0.0) | (np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x)))
-        x = np.where(g == 0.0, x, new)
-        if done.all():
+        x = np.where(active & (g != 0.0), new, x)
+        active &= ~done
+        if not active.any():
             break
     return np.where(normal, x0, x)
 

@@ -205,3 +205,13 @@ def test_beckmann_lobes_have_no_tables():
         ab.lobes.Dielectric(1.5, 0.3, model="beckmann").albedo(wo, method="table")
     with pytest.raises(ValueError, match="model"):
         ab.lobes.Conductor(0.3, model="phong")
+
+
+def test_visible_slope_does_not_depend_on_the_batch():
+    """Each element stops at its own convergence: solving a subset gives the same bits (what
+    makes chunked sampling bit-identical, ``test_execution.py``)."""
+    rng = np.random.default_rng(9)
+    mu, u = rng.exponential(size=4000), rng.random(4000)
+    whole = _beckmann_visible_slope(mu, u)
+    for part in (slice(0, 1), slice(5, 777), slice(3000, None, 7)):
+        np.testing.assert_array_equal(_beckmann_visible_slope(mu[part], u[part]), whole[part])

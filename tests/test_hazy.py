@@ -341,3 +341,35 @@ def test_hazy_dielectric_is_two_dielectric_lobes_of_the_mapped_index():
         hazy.HazyDielectric(1.0, 0.0, 4.0, 0.05)
     with pytest.raises(ValueError, match="narrow"):
         hazy.HazyGloss(0.5, 0.5, 4.0, 1e-9, compound_masking=True)  # a smooth core
+
+
+@settings(max_examples=6, deadline=None)
+@given(r_c=st.floats(0.0, 0.5), beta_h=st.floats(0.0, 0.95), extent=st.floats(0.0, 10.0),
+       alpha=st.floats(0.05, 0.8), mu=st.floats(0.05, 1.0), glass=st.booleans())
+def test_furnace_is_the_weighted_sum_of_independent_component_energies(r_c, beta_h, extent,
+                                                                     alpha, mu, glass):
+    """Acceptance 2: with F = 1 (HazyGloss) or the interface's own R + T (HazyDielectric),
+    the composite's albedo by the library's direction-space quadrature equals (1 - beta) E_n
+    + beta E_w with E from the independent node quadrature of ``tables.ggx_energy``, and is
+    at most 1 + 1e-6."""
+    from adobe_bsdf.tables.energy import ggx_energy
+
+    wo = _wo(mu)
+    if glass:
+        lobe = hazy.HazyDielectric(r_c, beta_h, extent, alpha)
+        eta = float(lobe.eta)
+    else:
+        mapped = hazy.HazyGloss(r_c, beta_h, extent, alpha)
+        lobe = ab.lobes.Sum(*(ab.lobes.Conductor.over(c.distribution)
+                              for c in mapped.components), weights=mapped.weights)
+        eta = None
+    m = (lobe if glass else mapped).mapping
+
+    def energy(a):
+        e = ggx_energy(mu, a, eta, order=28)
+        return float(e.reflection + e.transmission) if glass else float(e.reflection)
+
+    expected = (1.0 - m.beta) * energy(m.alpha_n[0]) + m.beta * energy(m.alpha_w[0])
+    albedo = lobe.albedo(wo, tol=1e-8)
+    np.testing.assert_allclose(albedo, expected, atol=1e-6)
+    assert np.all(albedo <= 1.0 + 1e-6)
