@@ -6,6 +6,7 @@ The validation toolkit is imported on its own: ``import adobe_bsdf.validation``.
 
 from adobe_bsdf import (
     config,
+    dispersion,
     frame,
     fresnel,
     hazy,
@@ -20,7 +21,7 @@ from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
-__all__ = ["config", "frame", "fresnel", "hazy", "lobes", "materials", "microfacet", "quadrature",
-           "registry", "tables", "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann",
-           "asm_alpha"]
+__all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "lobes", "materials",
+           "microfacet", "quadrature", "registry", "tables", "BSDFSample", "Flags", "Lobe",
+           "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"

@@ -4,18 +4,32 @@
                  (Figs. 1 and 11) and of the captions that fix every parameter (Fig. 9).
 ``hazy_sweeps``  captions that vary one parameter with the others fixed:
                  ``(fixed keyword arguments, swept parameter, (first, last) value)``.
+``dispersion``   seed 000 Table 2: ``{"ior": n_d, "abbe": V_d}`` of real materials
+                 (``ab.dispersion.abbe_to_dispersion(abbe)`` is their "Dispersion").
 
 Table 3 names its reflectivity column r_p, the peak (core) reflectivity r_c of §2.2.
 
 References
 ----------
+[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``): Table 2.
 [002] Barla, Pacanowski, Vangorp 2018 (``shared/seeds/002_01cff37cda6a7899.txt``): Table 3,
       captions of Figs. 8, 9, 10.
 """
 
 from __future__ import annotations
 
-__all__ = ["hazy", "hazy_sweeps"]
+__all__ = ["hazy", "hazy_sweeps", "dispersion"]
+
+dispersion = {
+    # seed 000 Table 2: IOR n_d and Abbe number V_d
+    "N-FK58": {"ior": 1.456, "abbe": 90.90},
+    "N-BK7": {"ior": 1.517, "abbe": 64.17},
+    "N-BAK4": {"ior": 1.569, "abbe": 55.98},
+    "water": {"ior": 1.333, "abbe": 55.78},
+    "diamond": {"ior": 2.417, "abbe": 55.30},
+    "F2": {"ior": 1.620, "abbe": 36.37},
+    "N-SF66": {"ior": 1.923, "abbe": 20.88},
+}
 
 hazy = {
     # Table 3 (Figs. 1 and 11): r_p, g, alpha_n, beta_h, lambda_h^{x,y}
