@@ -6,6 +6,7 @@
                                                             (model "ggx" or "beckmann"; ``.over``
                                                             takes any microfacet distribution)
 ``Sum(*lobes)``                                             sum, sampled as a mixture
+``Rotated(lobe, phi)``                                      turned about the normal (ASM §3)
 ``ConductorMultipleScattering`` / ``ConductorMS``           Kulla–Conty for metals (x base colour^2)
 ``DielectricMultipleScattering`` / ``DielectricMS``         Kulla–Conty for rough dielectrics
 ``ASMSpecular``, ``ASMDiffuse``, ``asm_dielectric_base``    ASM energy-conserving diffuse (eq. 1)
@@ -21,8 +22,9 @@ from adobe_bsdf.lobes.kulla_conty import (
     DielectricMultipleScattering,
 )
 from adobe_bsdf.lobes.lambert import Lambert
+from adobe_bsdf.lobes.rotated import Rotated, anisotropy_rotation
 from adobe_bsdf.lobes.sum import Sum
 
 __all__ = ["Lambert", "Conductor", "Dielectric", "Sum", "ConductorMultipleScattering",
            "ConductorMS", "DielectricMultipleScattering", "DielectricMS", "ASMSpecular",
-           "ASMDiffuse", "asm_dielectric_base"]
+           "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation"]
