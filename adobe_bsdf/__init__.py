@@ -15,6 +15,7 @@ from adobe_bsdf import (
     microfacet,
     quadrature,
     registry,
+    spectral,
     tables,
 )
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
@@ -22,6 +23,6 @@ from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
 __all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "lobes", "materials",
-           "microfacet", "quadrature", "registry", "tables", "BSDFSample", "Flags", "Lobe",
-           "Frame", "GGX", "Beckmann", "asm_alpha"]
+           "microfacet", "quadrature", "registry", "spectral", "tables", "BSDFSample",
+           "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"

@@ -169,3 +169,12 @@ def test_hazy_report_smoke(tmp_path):
                     "Polar slices"):
         assert heading in text, heading
     assert "| ggx |" in text and "| beckmann |" in text
+
+
+def test_asm_report_writes_the_table_1_comparison(tmp_path):
+    from benchmarks import asm_report
+
+    page = asm_report.run(tmp_path)
+    text = page.read_text(encoding="utf-8")
+    assert page.parent == tmp_path and "closest data set" in text
+    assert text.count("| Fe-Werner2009 |") == len(asm_report.ILLUMINANTS)

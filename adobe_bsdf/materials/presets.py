@@ -4,6 +4,8 @@
                  (Figs. 1 and 11) and of the captions that fix every parameter (Fig. 9).
 ``hazy_sweeps``  captions that vary one parameter with the others fixed:
                  ``(fixed keyword arguments, swept parameter, (first, last) value)``.
+``metals``       seed 000 Table 1: ``{"f0": F0, "tint": F82 tint}`` in linear Rec. 709, for
+                 ``ab.fresnel.f82_tint(cos, **metals[name])`` (base colour, edge colour).
 ``dispersion``   seed 000 Table 2: ``{"ior": n_d, "abbe": V_d}`` of real materials
                  (``ab.dispersion.abbe_to_dispersion(abbe)`` is their "Dispersion").
 
@@ -11,14 +13,31 @@ Table 3 names its reflectivity column r_p, the peak (core) reflectivity r_c of Â
 
 References
 ----------
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``): Table 2.
+[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``): Tables 1, 2.
 [002] Barla, Pacanowski, Vangorp 2018 (``shared/seeds/002_01cff37cda6a7899.txt``): Table 3,
       captions of Figs. 8, 9, 10.
 """
 
 from __future__ import annotations
 
-__all__ = ["hazy", "hazy_sweeps", "dispersion"]
+__all__ = ["hazy", "hazy_sweeps", "metals", "dispersion"]
+
+metals = {
+    # seed 000 Table 1: F0 ("Base Color") and F82 tint ("Specular Edge Color"), linear Rec. 709
+    "Ag": {"f0": (0.9868, 0.9830, 0.9667), "tint": (0.9929, 0.9961, 1.0000)},
+    "Al": {"f0": (0.9157, 0.9226, 0.9236), "tint": (0.9090, 0.9365, 0.9596)},
+    "Au": {"f0": (1.0000, 0.7099, 0.3148), "tint": (0.9408, 0.9636, 0.9099)},
+    "Cr": {"f0": (0.5496, 0.5561, 0.5531), "tint": (0.7372, 0.7511, 0.8170)},
+    "Cu": {"f0": (1.0000, 0.6504, 0.5274), "tint": (0.9755, 0.9349, 0.9301)},
+    "Fe": {"f0": (0.8951, 0.8755, 0.8154), "tint": (0.8551, 0.8800, 0.8966)},
+    "Hg": {"f0": (0.7815, 0.7795, 0.7783), "tint": (0.8103, 0.8532, 0.9046)},
+    "Mg": {"f0": (0.8918, 0.8821, 0.8948), "tint": (0.8949, 0.9147, 0.9504)},
+    "Ni": {"f0": (0.7014, 0.6382, 0.5593), "tint": (0.8134, 0.8352, 0.8725)},
+    "Pd": {"f0": (0.7363, 0.7023, 0.6602), "tint": (0.8095, 0.8369, 0.8739)},
+    "Pt": {"f0": (0.9602, 0.9317, 0.8260), "tint": (0.9501, 0.9461, 0.9352)},
+    "Ti": {"f0": (0.4432, 0.3993, 0.3599), "tint": (0.8627, 0.9066, 0.9481)},
+    "Zn": {"f0": (0.8759, 0.8685, 0.8542), "tint": (0.8769, 0.9037, 0.9341)},
+}
 
 dispersion = {
     # seed 000 Table 2: IOR n_d and Abbe number V_d
