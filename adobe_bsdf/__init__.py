@@ -12,6 +12,7 @@ from adobe_bsdf import (
     hazy,
     lobes,
     materials,
+    media,
     microfacet,
     quadrature,
     registry,
@@ -23,6 +24,6 @@ from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
 __all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "lobes", "materials",
-           "microfacet", "quadrature", "registry", "spectral", "tables", "BSDFSample",
+           "media", "microfacet", "quadrature", "registry", "spectral", "tables", "BSDFSample",
            "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"

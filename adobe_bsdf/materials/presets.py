@@ -6,6 +6,8 @@
                  ``(fixed keyword arguments, swept parameter, (first, last) value)``.
 ``metals``       seed 000 Table 1: ``{"f0": F0, "tint": F82 tint}`` in linear Rec. 709, for
                  ``ab.fresnel.f82_tint(cos, **metals[name])`` (base colour, edge colour).
+``media``        seed 000 Table 3: Jensen's measured materials as ``ab.media.asm_medium``
+                 keyword arguments (scattering distance, colour, Rayleigh).
 ``dispersion``   seed 000 Table 2: ``{"ior": n_d, "abbe": V_d}`` of real materials
                  (``ab.dispersion.abbe_to_dispersion(abbe)`` is their "Dispersion").
 
@@ -13,14 +15,36 @@ Table 3 names its reflectivity column r_p, the peak (core) reflectivity r_c of Â
 
 References
 ----------
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``): Tables 1, 2.
+[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``): Tables 1, 2, 3.
 [002] Barla, Pacanowski, Vangorp 2018 (``shared/seeds/002_01cff37cda6a7899.txt``): Table 3,
       captions of Figs. 8, 9, 10.
 """
 
 from __future__ import annotations
 
-__all__ = ["hazy", "hazy_sweeps", "metals", "dispersion"]
+__all__ = ["hazy", "hazy_sweeps", "metals", "dispersion", "media"]
+
+
+def _medium(distance, color, rayleigh):
+    return {"scattering_distance": distance, "scattering_color": color,
+            "scatter_rayleigh": rayleigh}
+
+
+media = {
+    # seed 000 Table 3: "Scattering Distance", "Scattering Color", "Rayleigh Scattering"
+    "Apple": _medium(0.04374, (1.0, 0.9168, 0.7063), 0.0),
+    "Chicken1": _medium(0.4118, (0.4947, 0.2785, 0.2320), 0.7311),
+    "Chicken2": _medium(0.3758, (0.5036, 0.2849, 0.2011), 0.3979),
+    "Cream": _medium(0.01762, (0.9881, 0.9492, 0.8478), 0.0),
+    "Ketchup": _medium(0.7588, (0.2909, 0.01392, 0.004071), 0.0),
+    "Marble": _medium(0.03920, (0.9312, 0.9130, 0.8941), 0.2430),
+    "Potato": _medium(0.1494, (0.8724, 0.7717, 0.3631), 0.0),
+    "Skimmilk": _medium(0.08511, (0.9022, 0.9011, 0.8203), 0.7501),
+    "Skin1": _medium(0.1117, (0.6250, 0.3836, 0.2394), 0.2397),
+    "Skin2": _medium(0.06750, (0.7790, 0.6224, 0.5291), 0.3844),
+    "Spectralon": _medium(0.006030, (1.0, 1.0, 1.0), 0.2535),
+    "Wholemilk": _medium(0.03228, (0.9532, 0.9389, 0.8694), 0.3016),
+}
 
 metals = {
     # seed 000 Table 1: F0 ("Base Color") and F82 tint ("Specular Edge Color"), linear Rec. 709
