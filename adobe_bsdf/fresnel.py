@@ -12,7 +12,8 @@ Public API
                                                        Gulbrandsen's artist-friendly conductor
                                                        parameters (reflectivity, edge tint) and
                                                        back
-``ExactConductor(eta, k)``, ``ExactDielectric(eta)``    the same models as objects with fixed
+``ExactConductor(eta, k)``, ``ExactDielectric(eta)``, ``F82Tint(f0, tint, f90, exponent)``
+                                                       the same models as objects with fixed
                                                        parameters, for lobes: callable on
                                                        cos theta, and ``from_cos2`` (cos^2)
 
@@ -39,7 +40,7 @@ from adobe_bsdf import _params
 
 __all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX",
            "gulbrandsen_to_ior", "ior_to_gulbrandsen",
-           "ExactConductor", "ExactDielectric"]
+           "ExactConductor", "ExactDielectric", "F82Tint"]
 
 #: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) (seed 000 eq. 2)
 COS_THETA_MAX = 1.0 / 7.0
@@ -333,6 +334,32 @@ class ExactConductor:
 
     def from_cos2(self, c2) -> np.ndarray:
         return _conductor_cos2(c2, self._A, self._B, self._matched)
+
+
+class F82Tint:
+    """The F82-tint metal Fresnel (``f82_tint``) with fixed parameters, as an object for lobes:
+    ``F82Tint(f0, tint, f90=1, exponent=5)(cos_theta) -> (..., 3)``; ``from_cos2(c2)`` for
+    c = sqrt(c2) >= 0 (seed 000 eqs. 6-8, seed 001 eqs. 5-6)."""
+
+    def __init__(self, f0, tint, f90=1.0, exponent=5.0):
+        self.f0 = _params.color("f0", f0, 0.0, 1.0)
+        self.tint = _params.color("tint", tint, 0.0, np.inf)
+        self.f90 = _params.color("f90", f90, 0.0, 1.0)
+        self.exponent = _params.real("exponent", exponent, 0.0, np.inf, lo_open=True)
+        #: batch shape of the parameters (beyond the colour axis)
+        self.param_shape = np.broadcast_shapes(self.f0.shape[:-1], self.tint.shape[:-1],
+                                               self.f90.shape[:-1], self.exponent.shape)
+
+    def __repr__(self) -> str:
+        return (f"F82Tint(f0={self.f0}, tint={self.tint}, f90={self.f90}, "
+                f"exponent={self.exponent})")
+
+    def __call__(self, cos_theta) -> np.ndarray:
+        return _f82_tint(np.abs(_cos("cos_theta", cos_theta)), self.f0, self.tint, self.f90,
+                         self.exponent)
+
+    def from_cos2(self, c2) -> np.ndarray:
+        return _f82_tint(np.sqrt(c2), self.f0, self.tint, self.f90, self.exponent)
 
 
 class ExactDielectric:

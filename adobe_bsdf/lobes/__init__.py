@@ -10,9 +10,12 @@
 ``ConductorMultipleScattering`` / ``ConductorMS``           Kulla–Conty for metals (x base colour^2)
 ``DielectricMultipleScattering`` / ``DielectricMS``         Kulla–Conty for rough dielectrics
 ``ASMSpecular``, ``ASMDiffuse``, ``asm_dielectric_base``    ASM energy-conserving diffuse (eq. 1)
+``asm_metal(base_color, specular_edge_color, roughness, anisotropy_level, anisotropy_angle)``
+                                                            ASM metal (F82-tint, §2-3)
 """
 
 from adobe_bsdf.lobes.asm_diffuse import ASMDiffuse, ASMSpecular, asm_dielectric_base
+from adobe_bsdf.lobes.asm_metal import asm_metal
 from adobe_bsdf.lobes.conductor import Conductor
 from adobe_bsdf.lobes.dielectric import Dielectric
 from adobe_bsdf.lobes.kulla_conty import (
@@ -27,4 +30,4 @@ from adobe_bsdf.lobes.sum import Sum
 
 __all__ = ["Lambert", "Conductor", "Dielectric", "Sum", "ConductorMultipleScattering",
            "ConductorMS", "DielectricMultipleScattering", "DielectricMS", "ASMSpecular",
-           "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation"]
+           "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation", "asm_metal"]
