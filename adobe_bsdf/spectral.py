@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import csv
 import functools
+import warnings
 from importlib import resources
 from typing import NamedTuple
 
@@ -66,7 +67,9 @@ def metal_ior(name: str):
 @functools.lru_cache(maxsize=8)
 def _weights(illuminant: str):
     """(1 nm grid, S cmf / sum S ybar (3, n), BT.709 XYZ -> RGB, RGB of the white)."""
-    import colour
+    with warnings.catch_warnings():  # colour-science's notice about its optional plotting
+        warnings.filterwarnings("ignore", message='"Matplotlib" related API features')
+        import colour
 
     if illuminant not in colour.SDS_ILLUMINANTS:
         raise ValueError(f"illuminant = {illuminant!r} is not a colour-science illuminant "
