@@ -33,9 +33,17 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.fresnel import COS_THETA_MAX, _conductor_channel, _f82_tint, _schlick
+from adobe_bsdf.fresnel import (
+    COS_THETA_MAX,
+    _conductor_channel,
+    _f82_tint,
+    _schlick,
+    conductor,
+    gulbrandsen_to_ior,
+)
 
-__all__ = ["METALS", "metal_ior", "reflectance_to_rgb", "F82TintFit", "fit_f82_tint"]
+__all__ = ["METALS", "metal_ior", "reflectance_to_rgb", "F82TintFit", "fit_f82_tint",
+           "conductor_from_f82_tint"]
 
 #: the visible range of the colour integrals (nm)
 RANGE_NM = (380.0, 780.0)
@@ -154,3 +162,39 @@ def fit_f82_tint(wavelengths_nm, n, k, illuminant: str = "D65", n_angles: int = 
     model = _f82_tint(mu, f0, tint, 1.0, 5.0)
     error = np.abs(model - exact)
     return F82TintFit(f0, tint, f0_raw, error.max(axis=0), np.sqrt((error**2).mean(axis=0)))
+
+
+def conductor_from_f82_tint(f0, tint, iterations: int = 64):
+    """An effective complex index per channel for an F82-tint metal: the exact conductor
+    whose reflectance is ``f0`` at cos theta = 1 and h = tint Schlick(f0, 1/7) at cos theta =
+    1/7 (seed 000 eq. 6), so that the exact Fresnel passes through both points F82-tint
+    fixes.
+
+    It is searched on Gulbrandsen's curve of reflectivity ``f0`` (every point has F(1) =
+    f0): F(1/7) increases with Gulbrandsen's edge tint g in [0, 1], so g is found by
+    bisection. Where h lies outside the curve's range, the nearest end is returned and
+    ``residual`` = F(1/7) - h says by how much. Where f0 = 1 the index is infinite (F = 1 at
+    every angle; residual 1 - h).
+
+    Returns ``(eta, k, residual)``, each ``(..., 3)``.
+    """
+    f0 = _params.color("f0", f0, 0.0, 1.0)
+    tint = _params.color("tint", tint, 0.0, np.inf)
+    f0, tint = np.broadcast_arrays(f0, tint)
+    h = tint * _schlick(COS_THETA_MAX, f0, 1.0, 5.0)
+    mirror = f0 >= 1.0
+    r = np.where(mirror, 0.5, f0)
+
+    def at(g):
+        eta, k = gulbrandsen_to_ior(r, g)
+        return eta, k, conductor(np.full(r.shape[:-1], COS_THETA_MAX), eta, k)
+
+    lo, hi = np.zeros_like(r), np.ones_like(r)
+    for _ in range(_params.integer("iterations", iterations, 1)):
+        mid = 0.5 * (lo + hi)
+        below = at(mid)[2] < h
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    g = np.where(at(hi)[2] - h < h - at(lo)[2], hi, lo)
+    eta, k, value = at(g)
+    return (np.where(mirror, np.inf, eta), np.where(mirror, np.inf, k),
+            np.where(mirror, 1.0 - h, value - h))

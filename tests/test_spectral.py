@@ -69,3 +69,23 @@ def test_bad_input():
         spectral.reflectance_to_rgb(lam[5:], n[5:])  # does not cover 380 nm
     with pytest.raises(ValueError, match="k"):
         spectral.fit_f82_tint(lam, n, -k)
+
+
+def test_conductor_from_f82_tint_passes_through_both_points():
+    """For every Table 1 channel with F0 < 1: the effective n + i k reflects F0 at normal
+    incidence and tint Schlick(F0, 1/7) at cos = 1/7 (to rounding); F0 = 1 is the mirror."""
+    metals = ab.materials.presets.metals
+    f0 = np.array([m["f0"] for m in metals.values()])
+    tint = np.array([m["tint"] for m in metals.values()])
+    eta, k, residual = spectral.conductor_from_f82_tint(f0, tint)
+    finite = f0 < 1.0
+    ones = np.ones(len(f0))
+    np.testing.assert_allclose(ab.fresnel.conductor(ones, np.where(finite, eta, 1.0),
+                                                    np.where(finite, k, 0.0))[finite],
+                               f0[finite], atol=1e-12)
+    assert np.all(np.abs(residual[finite]) < 1e-12)
+    assert np.all(np.isinf(eta[~finite])) and np.all(residual[~finite] >= 0)
+    h = tint * ab.fresnel.schlick(1 / 7, f0)
+    np.testing.assert_allclose(ab.fresnel.conductor(ones / 7, np.where(finite, eta, 1.0),
+                                                    np.where(finite, k, 0.0))[finite],
+                               h[finite], atol=1e-12)
