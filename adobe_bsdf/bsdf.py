@@ -41,6 +41,11 @@ def _pair(wo, wi):
             (_params.direction_shape("wi", wi), partial(_params.check_unit, "wi")))
 
 
+def _throughput(throughput):
+    """The (array, elementwise check) entry of a path throughput for ``Lobe._batched``."""
+    return ((_params.color("throughput", throughput, 0.0, np.inf), lambda t: None),)
+
+
 def _like(part: np.ndarray, n: int) -> np.ndarray:
     """An output for ``n`` elements shaped as the chunk result ``part``, channel-major in
     memory if ``part`` is, or is one channel broadcast (the copy of each chunk then runs
@@ -129,7 +134,9 @@ class Lobe:
     ``_sample(wo, u) -> BSDFSample``; a lobe with delta branches (on which ``_eval`` is 0)
     overrides ``_delta_albedo(wo) -> (..., 3)``, their energy, and one with an interface
     overrides ``_energy_scale(wo, wi)``. ``albedo(method="quadrature")`` integrates ``_eval`` in
-    direction space and adds ``_delta_albedo``.
+    direction space and adds ``_delta_albedo``. A lobe that samples according to the path
+    throughput overrides ``_sample_t``, ``_pdf_t`` and ``_eval_pdf_t`` (which default to the
+    throughput-blind methods), and wrappers forward them.
     Lobes are frozen: the constructor validates and stores parameters only.
     """
 
@@ -141,20 +148,32 @@ class Lobe:
         """BSDF value f(wo, wi), RGB ``(..., 3)``, without the cosine factor."""
         return self._batched(self._eval, _pair(wo, wi))
 
-    def pdf(self, wo, wi) -> np.ndarray:
-        """Solid-angle density ``(...)`` with which ``sample(wo, u)`` returns ``wi``."""
-        return self._batched(self._pdf, _pair(wo, wi))
+    def pdf(self, wo, wi, throughput=None) -> np.ndarray:
+        """Solid-angle density ``(...)`` with which ``sample(wo, u, throughput)`` returns
+        ``wi``."""
+        if throughput is None:
+            return self._batched(self._pdf, _pair(wo, wi))
+        return self._batched(self._pdf_t, _pair(wo, wi) + _throughput(throughput))
 
-    def eval_pdf(self, wo, wi) -> tuple[np.ndarray, np.ndarray]:
-        """``(eval(wo, wi), pdf(wo, wi))`` in one call, sharing what the two have in common
-        (half vector, masking of ``wo``, Fresnel) where the lobe can."""
-        return self._batched(self._eval_pdf, _pair(wo, wi))
+    def eval_pdf(self, wo, wi, throughput=None) -> tuple[np.ndarray, np.ndarray]:
+        """``(eval(wo, wi), pdf(wo, wi, throughput))`` in one call, sharing what the two have
+        in common (half vector, masking of ``wo``, Fresnel) where the lobe can."""
+        if throughput is None:
+            return self._batched(self._eval_pdf, _pair(wo, wi))
+        return self._batched(self._eval_pdf_t, _pair(wo, wi) + _throughput(throughput))
 
-    def sample(self, wo, u) -> BSDFSample:
-        """Sample ``wi`` given ``wo`` from uniforms ``u`` of shape ``(..., 3)`` in [0, 1)."""
-        return self._batched(self._sample, (
-            (_params.direction_shape("wo", wo), partial(_params.check_unit, "wo")),
-            (_params.uniforms_shape("u", u, 3), partial(_params.check_uniform, "u"))))
+    def sample(self, wo, u, throughput=None) -> BSDFSample:
+        """Sample ``wi`` given ``wo`` from uniforms ``u`` of shape ``(..., 3)`` in [0, 1).
+
+        ``throughput`` (colour ``(..., 3)`` in [0, inf), default white) is the path
+        throughput so far; a lobe whose channels scatter differently (``Dispersive``) picks
+        among them in proportion to it (seed 000 §4); every other lobe ignores it.
+        """
+        args = ((_params.direction_shape("wo", wo), partial(_params.check_unit, "wo")),
+                (_params.uniforms_shape("u", u, 3), partial(_params.check_uniform, "u")))
+        if throughput is None:
+            return self._batched(self._sample, args)
+        return self._batched(self._sample_t, args + _throughput(throughput))
 
     def albedo(
         self,
@@ -204,7 +223,7 @@ class Lobe:
                                        partial(_params.check_unit, "wo")),))
         wo = _params.direction("wo", wo)
         if method == "quadrature":
-            value, error = quadrature.albedo(self, wo, tol=tol)
+            value, error = self._albedo_quadrature(wo, tol)
         elif method == "mc":
             value, error = self._albedo_mc(wo, n_samples, rng)
         else:
@@ -257,6 +276,21 @@ class Lobe:
     def _eval_pdf(self, wo, wi):
         return self._eval(wo, wi), self._pdf(wo, wi)
 
+    def _pdf_t(self, wo, wi, throughput):
+        """``_pdf`` for a path of ``throughput`` ``(..., 3)`` (see ``sample``)."""
+        return self._pdf(wo, wi)
+
+    def _eval_pdf_t(self, wo, wi, throughput):
+        return self._eval_pdf(wo, wi)
+
+    def _sample_t(self, wo, u, throughput):
+        """``_sample`` for a path of ``throughput`` ``(..., 3)`` (see ``sample``)."""
+        return self._sample(wo, u)
+
+    def _albedo_quadrature(self, wo, tol):
+        """``(value, error)`` of ``albedo(method="quadrature")``."""
+        return quadrature.albedo(self, wo, tol=tol)
+
     def _albedo_mc(self, wo, n_samples, rng):
         n_samples = _params.integer("n_samples", n_samples, 2)
         rng = np.random.default_rng(rng)
@@ -264,13 +298,18 @@ class Lobe:
         u = rng.random((n_samples, *batch, 3))
         wo = np.broadcast_to(wo, u.shape)
         s = self._sample(wo, u)
-        weight = s.weight * self._energy_scale(wo, s.wi)[..., None]
+        weight = s.weight * self._energy_scale_rgb(wo, s.wi)
         mean = weight.mean(axis=0)
         return mean, weight.std(axis=0, ddof=1) / np.sqrt(n_samples)
 
     def _energy_scale(self, wo, wi):
         """Factor from radiance to energy: (eta_i / eta_o)^2 across an interface, else 1."""
         return np.ones(np.broadcast_shapes(wo.shape, wi.shape)[:-1])
+
+    def _energy_scale_rgb(self, wo, wi):
+        """``_energy_scale`` per colour channel, ``(..., 3)`` or broadcasting to it (a lobe
+        whose index depends on the channel overrides it)."""
+        return self._energy_scale(wo, wi)[..., None]
 
     def _albedo_table(self, wo, with_error=True):
         """``(E, error)`` from baked tables; ``error`` is None unless ``with_error``."""

@@ -73,13 +73,15 @@ def test_chi2_at_three_rotations(kind, phi, cos_theta):
 
 
 def test_albedo_does_not_depend_on_the_rotation():
-    """Turning the lobe and wo together keeps the albedo (quadrature)."""
+    """Turning the lobe and wo together keeps the albedo: the cubature of the turned lobe's
+    own eval (``quadrature.albedo``; ``Rotated.albedo`` itself integrates the inner lobe)."""
     lobe = Conductor(0.6, 0.05)
     wo = np.array([0.6, 0.0, 0.8])
     phi = 0.7
     turned = np.array([0.6 * np.cos(phi), 0.6 * np.sin(phi), 0.8])
-    np.testing.assert_allclose(Rotated(lobe, phi).albedo(turned, tol=1e-9),
-                               lobe.albedo(wo, tol=1e-9), atol=1e-8)
+    direct = ab.quadrature.albedo(Rotated(lobe, phi), turned, tol=1e-9)[0]
+    np.testing.assert_allclose(direct, lobe.albedo(wo, tol=1e-9), atol=1e-8)
+    np.testing.assert_allclose(Rotated(lobe, phi).albedo(turned, tol=1e-9), direct, atol=1e-8)
 
 
 def test_bad_input():

@@ -6,18 +6,23 @@
                                                             (model "ggx" or "beckmann"; ``.over``
                                                             takes any microfacet distribution)
 ``Sum(*lobes)``                                             sum, sampled as a mixture
+``Dispersive(eta, dispersion, alpha_x, alpha_y=None, ...)``  one index per RGB channel (ASM §4)
 ``Rotated(lobe, phi)``                                      turned about the normal (ASM §3)
 ``ConductorMultipleScattering`` / ``ConductorMS``           Kulla–Conty for metals (x base colour^2)
 ``DielectricMultipleScattering`` / ``DielectricMS``         Kulla–Conty for rough dielectrics
 ``ASMSpecular``, ``ASMDiffuse``, ``asm_dielectric_base``    ASM energy-conserving diffuse (eq. 1)
 ``asm_metal(base_color, specular_edge_color, roughness, anisotropy_level, anisotropy_angle)``
                                                             ASM metal (F82-tint, §2-3)
+``asm_dielectric(ior, roughness, anisotropy_level, anisotropy_angle, dispersion)``
+                                                            ASM dielectric specular (§3-4)
 """
 
+from adobe_bsdf.lobes.asm_dielectric import asm_dielectric
 from adobe_bsdf.lobes.asm_diffuse import ASMDiffuse, ASMSpecular, asm_dielectric_base
 from adobe_bsdf.lobes.asm_metal import asm_metal
 from adobe_bsdf.lobes.conductor import Conductor
 from adobe_bsdf.lobes.dielectric import Dielectric
+from adobe_bsdf.lobes.dispersive import Dispersive
 from adobe_bsdf.lobes.kulla_conty import (
     ConductorMS,
     ConductorMultipleScattering,
@@ -30,4 +35,5 @@ from adobe_bsdf.lobes.sum import Sum
 
 __all__ = ["Lambert", "Conductor", "Dielectric", "Sum", "ConductorMultipleScattering",
            "ConductorMS", "DielectricMultipleScattering", "DielectricMS", "ASMSpecular",
-           "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation", "asm_metal"]
+           "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation", "asm_metal",
+           "Dispersive", "asm_dielectric"]

@@ -47,6 +47,11 @@ class Rotated(Lobe):
         """The wrapped lobe's ``eta`` (for generalized reciprocity), if it has one."""
         return getattr(self.lobe, "eta", None)
 
+    @property
+    def eta_per_channel(self) -> bool:
+        """Whether ``eta`` has one index per colour channel (a ``Dispersive`` lobe)."""
+        return getattr(self.lobe, "eta_per_channel", False)
+
     def _param_shape(self):
         shape = self.lobe._param_shape()
         return None if shape is None else np.broadcast_shapes(shape, self.phi.shape)
@@ -69,12 +74,27 @@ class Rotated(Lobe):
     def _eval_pdf(self, wo, wi):
         return self.lobe._eval_pdf(self._into(wo), self._into(wi))
 
+    def _pdf_t(self, wo, wi, throughput):
+        return self.lobe._pdf_t(self._into(wo), self._into(wi), throughput)
+
+    def _eval_pdf_t(self, wo, wi, throughput):
+        return self.lobe._eval_pdf_t(self._into(wo), self._into(wi), throughput)
+
     def _sample(self, wo, u):
-        s = self.lobe._sample(self._into(wo), u)
+        return self._sample_t(wo, u, None)
+
+    def _sample_t(self, wo, u, throughput):
+        s = self.lobe._sample_t(self._into(wo), u, throughput)
         return BSDFSample(self._turn(s.wi, 1.0), s.weight, s.pdf, s.flags)
 
     def _energy_scale(self, wo, wi):
         return self.lobe._energy_scale(wo, wi)  # depends on the sides only
+
+    def _energy_scale_rgb(self, wo, wi):
+        return self.lobe._energy_scale_rgb(wo, wi)
+
+    def _albedo_quadrature(self, wo, tol):
+        return self.lobe._albedo_quadrature(self._into(wo), tol)
 
     def _albedo_table(self, wo, with_error=True):
         return self.lobe._albedo_table(self._into(wo), with_error)

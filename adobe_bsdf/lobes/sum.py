@@ -8,7 +8,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
 from adobe_bsdf.registry import CheckCase, register
 
-__all__ = ["Sum"]
+__all__ = ["Sum", "sample_where"]
 
 
 class Sum(Lobe):
@@ -92,41 +92,34 @@ class Sum(Lobe):
         return self._total(self._terms("_eval", wo, wi), self._batch(wo, wi) + (3,))
 
     def _pdf(self, wo, wi):
+        return self._pdf_t(wo, wi, None)
+
+    def _pdf_t(self, wo, wi, throughput):
         if not self.components:
             return np.zeros(self._batch(wo, wi))
         P = self._probabilities(wo)
-        return sum(P[k] * c._pdf(wo, wi) for k, c in enumerate(self.components))
+        return sum(P[k] * c._pdf_t(wo, wi, throughput) for k, c in enumerate(self.components))
 
     def _eval_pdf(self, wo, wi):
+        return self._eval_pdf_t(wo, wi, None)
+
+    def _eval_pdf_t(self, wo, wi, throughput):
         if not self.components:
             batch = self._batch(wo, wi)
             return np.zeros(batch + (3,)), np.zeros(batch)
         P = self._probabilities(wo)
         f, pdf = None, None
         for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
-            fk, pk = c._eval_pdf(wo, wi)
+            fk, pk = c._eval_pdf_t(wo, wi, throughput)
             fk = fk if w is None else fk * w
             f = fk if f is None else f + fk
             pdf = P[k] * pk if pdf is None else pdf + P[k] * pk
         return f, pdf
 
-    def _sample_component(self, k, wo, u, chosen):
-        """Sample component k for the elements ``chosen`` (all of them if its parameters
-        are not scalars), scattered into full-size arrays."""
-        c = self.components[k]
-        if c._param_shape() != () or wo.ndim != 2 or u.ndim != 2:
-            return c._sample(wo, u)
-        index = np.flatnonzero(chosen)
-        part = c._sample(np.broadcast_to(wo, u.shape)[index], u[index])
-        n = u.shape[0]
-        full = []
-        for field in part:
-            out = np.zeros((n,) + field.shape[1:], dtype=field.dtype)
-            out[index] = field
-            full.append(out)
-        return BSDFSample(*full)
-
     def _sample(self, wo, u):
+        return self._sample_t(wo, u, None)
+
+    def _sample_t(self, wo, u, throughput):
         batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
         if not self.components:
             return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
@@ -146,7 +139,7 @@ class Sum(Lobe):
         flags = np.full(batch, int(Flags.NONE))
         for j, w in enumerate(self.weights):
             chosen = k == j
-            s = self._sample_component(j, wo, u, chosen)
+            s = sample_where(self.components[j], wo, u, throughput, chosen)
             sw = s.weight if w is None else s.weight * w
             wi = np.where(chosen[..., None], s.wi, wi)
             weight = np.where(chosen[..., None], sw, weight)
@@ -154,7 +147,7 @@ class Sum(Lobe):
             flags = np.where(chosen, s.flags, flags)
         delta = (flags & int(Flags.DELTA)) != 0
         ok = flags != int(Flags.NONE)
-        f, mix_pdf = self._eval_pdf(wo, wi)
+        f, mix_pdf = self._eval_pdf_t(wo, wi, throughput)
         smooth_weight = f * np.abs(wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf, 1.0)[..., None]
         weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None],
                           np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
@@ -175,6 +168,11 @@ class Sum(Lobe):
             return super()._energy_scale(wo, wi)
         return self.components[0]._energy_scale(wo, wi)
 
+    def _energy_scale_rgb(self, wo, wi):
+        if not self.components:
+            return super()._energy_scale_rgb(wo, wi)
+        return self.components[0]._energy_scale_rgb(wo, wi)
+
     def _albedo_table(self, wo, with_error=True):
         values, errors = [], []
         for c, w in zip(self.components, self.weights, strict=True):
@@ -190,6 +188,25 @@ class Sum(Lobe):
             return np.zeros(wo.shape[:-1])
         return sum(c._sampling_weight(wo) * (1.0 if w is None else luminance(w))
                    for c, w in zip(self.components, self.weights, strict=True))
+
+
+def sample_where(lobe: Lobe, wo, u, throughput, chosen) -> BSDFSample:
+    """``lobe._sample_t(wo, u, throughput)`` computed for the elements ``chosen`` only (for
+    all of them if the lobe's parameters are not scalars or the batch is not flat), scattered
+    into full-size arrays (zero elsewhere)."""
+    if lobe._param_shape() != () or wo.ndim != 2 or u.ndim != 2:
+        return lobe._sample_t(wo, u, throughput)
+    index = np.flatnonzero(chosen)
+    if throughput is not None:
+        throughput = np.broadcast_to(throughput, u.shape)[index]
+    part = lobe._sample_t(np.broadcast_to(wo, u.shape)[index], u[index], throughput)
+    n = u.shape[0]
+    full = []
+    for field in part:
+        out = np.zeros((n,) + field.shape[1:], dtype=field.dtype)
+        out[index] = field
+        full.append(out)
+    return BSDFSample(*full)
 
 
 def _weighted_example():

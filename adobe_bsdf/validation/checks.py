@@ -265,8 +265,9 @@ def reciprocity_error(
     eta_o, eta_i : array_like (...), optional
         Refractive index on the side of ``wo`` and of ``wi`` per pair, in (0, inf); both or
         neither. If neither is given and ``lobe`` has an attribute ``eta`` (n_below / n_above,
-        as ``Dielectric``), the side above (z >= 0) has index 1 and the side below ``eta``;
-        otherwise all indices are 1.
+        as ``Dielectric``), the side above (z >= 0) has index 1 and the side below ``eta``
+        (per colour channel, ``(..., 3)``, if the lobe's ``eta_per_channel`` is true, as
+        ``Dispersive``); otherwise all indices are 1.
     rtol : float
         Allowed relative error, in [0, inf).
     atol : float
@@ -290,13 +291,17 @@ def reciprocity_error(
     if eta_o is None:
         eta = getattr(lobe, "eta", None)
         eta = 1.0 if eta is None else np.asarray(eta, dtype=np.float64)
-        eta_o = np.where(wo[..., 2] >= 0.0, 1.0, eta)
-        eta_i = np.where(wi[..., 2] >= 0.0, 1.0, eta)
+        channel = getattr(lobe, "eta_per_channel", False)
+        eta_o = np.where(wo[..., 2:] >= 0.0 if channel else wo[..., 2] >= 0.0, 1.0, eta)
+        eta_i = np.where(wi[..., 2:] >= 0.0 if channel else wi[..., 2] >= 0.0, 1.0, eta)
     else:
         eta_o = _params.real("eta_o", eta_o, 0.0, np.inf, lo_open=True)
         eta_i = _params.real("eta_i", eta_i, 0.0, np.inf, lo_open=True)
-    forward = lobe.eval(wo, wi) / (np.asarray(eta_o)[..., None] ** 2)
-    backward = lobe.eval(wi, wo) / (np.asarray(eta_i)[..., None] ** 2)
+        channel = False
+    eta_o, eta_i = ((e if channel else e[..., None]) for e in (np.asarray(eta_o),
+                                                                np.asarray(eta_i)))
+    forward = lobe.eval(wo, wi) / eta_o**2
+    backward = lobe.eval(wi, wo) / eta_i**2
     errors = _relative_difference(forward, backward, atol).max(axis=-1)
     wo, wi = (np.broadcast_to(w, (*errors.shape, 3)) for w in (wo, wi))
     worst = np.unravel_index(int(np.argmax(errors)), errors.shape) if errors.size else ()
