@@ -433,7 +433,30 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
                       f"{max_evals}; estimated error {cells.error.sum(axis=0).max():.1e}",
                       stacklevel=3)
     value = cells.value.sum(axis=0).reshape(shape + (3,)) + lobe._delta_albedo(wo)
+    if n_guides > 1:
+        _check_against_guides(lobe, wo, s, value, tol)
     return value, cells.error.sum(axis=0).reshape(shape + (3,))
+
+
+#: standard errors beyond which ``albedo`` warns that its guard samples disagree
+GUIDE_SIGMAS = 6.0
+
+
+def _check_against_guides(lobe, wo, s, value, tol):
+    """Warn where the cubature and the Monte-Carlo mean of the guard samples' weights (energy
+    convention) differ by more than ``GUIDE_SIGMAS`` standard errors plus ``10 tol``: support
+    narrower than any cell the refinement reaches (an alpha of ~1e-5 or less across a
+    ridge, e.g. ASM roughness 0 with anisotropy 1), which the error estimate cannot see."""
+    energy = s.weight * lobe._energy_scale_rgb(np.broadcast_to(wo, s.wi.shape), s.wi)
+    mean = energy.mean(axis=0)
+    sigma = energy.std(axis=0, ddof=1) / np.sqrt(energy.shape[0])
+    gap = np.abs(np.broadcast_to(value, mean.shape) - mean)
+    if np.any(gap > GUIDE_SIGMAS * sigma + 10.0 * tol):
+        worst = float(np.max(gap))
+        warnings.warn(f"albedo quadrature differs from the Monte-Carlo mean of its guard "
+                      f"samples by {worst:.2e} (over {GUIDE_SIGMAS:g} standard errors): the lobe "
+                      "has support narrower than the grid resolves; use method='mc'",
+                      stacklevel=4)
 
 
 class _DirectionMap:
