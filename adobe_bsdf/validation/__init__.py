@@ -20,6 +20,12 @@ Sampling against density (``validation.chi2``)
     The building blocks: grid, vectorised adaptive Genz–Malik cubature over cells, sampling
     with classification of delta / failed / invalid samples, multiple-test correction.
 
+Razor-thin lobes (``validation.stretch``, imported on its own)
+
+``Stretched(lobe, matrix)``, ``ridge_stretch(phi, factor)``
+    A lobe seen through the map w -> A w / |A w| of the sphere (exact Jacobian), so that
+    ``chi2_test`` resolves a ridge ~1e-8 rad wide (ASM roughness 0 with anisotropy 1).
+
 Consistency checks (``validation.checks``)
 
 ``pdf_integral(lobe, wo, *, expected, tol, ...)``
