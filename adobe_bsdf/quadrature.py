@@ -444,14 +444,19 @@ GUIDE_SIGMAS = 6.0
 
 def _check_against_guides(lobe, wo, s, value, tol):
     """Warn where the cubature and the Monte-Carlo mean of the guard samples' weights (energy
-    convention) differ by more than ``GUIDE_SIGMAS`` standard errors plus ``10 tol``: support
-    narrower than any cell the refinement reaches (an alpha of ~1e-5 or less across a
-    ridge, e.g. ASM roughness 0 with anisotropy 1), which the error estimate cannot see."""
+    convention) differ by more than ``GUIDE_SIGMAS`` standard errors plus ``10 tol`` plus
+    ``GUIDE_SIGMAS`` times the largest weight over the number of samples (events rarer than
+    1 / n_guides, e.g. the energy a narrow lobe loses at the horizon, leave no trace in the
+    sample's standard error): support narrower than any cell the refinement reaches (an
+    alpha of ~1e-5 or less across a ridge, e.g. ASM roughness 0 with anisotropy 1), which
+    the error estimate cannot see."""
     energy = s.weight * lobe._energy_scale_rgb(np.broadcast_to(wo, s.wi.shape), s.wi)
+    n = energy.shape[0]
     mean = energy.mean(axis=0)
-    sigma = energy.std(axis=0, ddof=1) / np.sqrt(energy.shape[0])
+    sigma = energy.std(axis=0, ddof=1) / np.sqrt(n)
+    rare = np.abs(energy).max(axis=0) / n
     gap = np.abs(np.broadcast_to(value, mean.shape) - mean)
-    if np.any(gap > GUIDE_SIGMAS * sigma + 10.0 * tol):
+    if np.any(gap > GUIDE_SIGMAS * (sigma + rare) + 10.0 * tol):
         worst = float(np.max(gap))
         warnings.warn(f"albedo quadrature differs from the Monte-Carlo mean of its guard "
                       f"samples by {worst:.2e} (over {GUIDE_SIGMAS:g} standard errors): the lobe "

@@ -201,7 +201,7 @@ def test_ridge_chi2(kind, angle, cos_theta):
 def test_quadrature_albedo_warns_on_the_ridge():
     """The cubature cannot resolve a 1e-8 wide ridge; it says so (its guard samples' Monte-Carlo
     mean disagrees) instead of returning ~0 silently, and method="mc" sees the energy."""
-    lobe = _ridge_lobe("metal", 0.0)
+    lobe = ab.lobes.asm_metal(1.0, 1.0, roughness=0.0, anisotropy_level=1.0)  # white: F = 1
     wo = _in_plane(0.0, 0.9)
     with pytest.warns(UserWarning, match="guard samples"):
         quad = lobe.albedo(wo)
