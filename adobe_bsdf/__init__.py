@@ -10,6 +10,7 @@ from adobe_bsdf import (
     frame,
     fresnel,
     hazy,
+    layering,
     lobes,
     materials,
     media,
@@ -23,7 +24,7 @@ from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
-__all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "lobes", "materials",
+__all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "layering", "lobes", "materials",
            "media", "microfacet", "quadrature", "registry", "spectral", "tables", "BSDFSample",
            "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"

@@ -306,6 +306,11 @@ class Lobe:
         """Factor from radiance to energy: (eta_i / eta_o)^2 across an interface, else 1."""
         return np.ones(np.broadcast_shapes(wo.shape, wi.shape)[:-1])
 
+    def _top_albedo(self, wo):
+        """E(wo) ``(..., 3)`` of this lobe as the top of a ``layering.Layer`` (where it must
+        not underestimate: the layer would add energy): the tables by default."""
+        return self._albedo_table(wo, with_error=False)[0]
+
     def _energy_scale_rgb(self, wo, wi):
         """``_energy_scale`` per colour channel, ``(..., 3)`` or broadcasting to it (a lobe
         whose index depends on the channel overrides it)."""

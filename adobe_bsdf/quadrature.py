@@ -29,7 +29,7 @@ import numpy as np
 
 from adobe_bsdf import _params
 
-__all__ = ["CellIntegral", "SphereGrid", "albedo", "integrate_cells"]
+__all__ = ["sampled_albedo", "CellIntegral", "SphereGrid", "albedo", "integrate_cells"]
 
 #: largest number of integrand values (points times channels) computed in one call
 BATCH = 1 << 20
@@ -330,9 +330,11 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
     """Energy albedo of ``lobe`` for a batch of ``wo`` by adaptive cubature of ``eval``.
 
     What is integrated: f(wo, wi) |cos theta_i| s(wo, wi) over the whole sphere of ``wi``, where
-    s = ``lobe._energy_scale`` is (eta_i / eta_o)^2 for transmission and 1 for reflection (the
-    energy convention of ``docs/conventions.md``); the delta branches, on which ``eval`` is 0,
-    are added in closed form by ``lobe._delta_albedo(wo)``.
+    s = ``lobe._energy_scale_rgb`` is (eta_i / eta_o)^2 for transmission (per colour channel
+    where the index depends on it) and 1 for reflection (the energy convention of
+    ``docs/conventions.md``); the edges of the map below follow ``lobe._energy_scale``; the
+    delta branches, on which ``eval`` is 0, are added in closed form by
+    ``lobe._delta_albedo(wo)``.
 
     The grid: the cells of one ``SphereGrid(n_theta, n_phi)`` about the pole +z, a rectangle
     ``(t, phi)`` shared by the whole batch, mapped to directions by a map of each batch
@@ -405,9 +407,8 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
     def integrand(x):
         wi, jacobian = where.directions(x[:, 0], x[:, 1])
         wi = wi.reshape(x.shape[0], *(shape if wi.shape[1] > 1 else (1,) * len(shape)), 3)
-        weight = (np.abs(wi[..., 2]) * jacobian.reshape(wi.shape[:-1])
-                  * lobe._energy_scale(wo[None], wi))
-        f = lobe._eval(wo[None], wi) * weight[..., None]
+        weight = np.abs(wi[..., 2]) * jacobian.reshape(wi.shape[:-1])
+        f = lobe._eval(wo[None], wi) * (weight[..., None] * lobe._energy_scale_rgb(wo[None], wi))
         return np.broadcast_to(f, (x.shape[0], *shape, 3)).reshape(x.shape[0], 3 * size)
 
     if n_guides:
@@ -769,3 +770,37 @@ def _unit_axis(axis) -> np.ndarray:
     if norm == 0.0:
         raise ValueError(f"axis = {axis!r} must be a non-zero 3-vector")
     return arr / norm
+
+
+def sampled_albedo(lobe, wo: np.ndarray, order: int = 32) -> np.ndarray:
+    """Albedo ``(..., 3)`` of a single-branch lobe as the integral of its sample weights over
+    the unit square of its two direction uniforms, by an ``order`` x ``order``
+    Gauss–Legendre product rule.
+
+    For a lobe whose ``_sample(wo, (u0, u1, u2))`` maps (u1, u2) one-to-one onto directions
+    with density pdf (a microfacet reflection sampled by visible normals, the first uniform
+    unused), E(wo) = int f |cos| dw = int weight(u1, u2) du1 du2 exactly. The weight of a
+    visible-normal sampler is smooth except where the reflected direction crosses the
+    horizon (G2 -> 0 there), so the rule converges slowly at grazing angles: the error is
+    measured in ``docs/asm_measured.md``. Each distinct ``wo`` (rows compared exactly)
+    costs ``order**2`` samples.
+    """
+    order = _params.integer("order", order, 1)
+    x, w = np.polynomial.legendre.leggauss(order)
+    x, w = 0.5 * (x + 1.0), 0.5 * w
+    u1, u2 = (a.ravel() for a in np.meshgrid(x, x, indexing="ij"))
+    weights = np.outer(w, w).ravel()
+    u = np.stack([np.full(u1.size, 0.5), u1, u2], axis=-1)
+    if lobe._param_shape() == ():  # one lobe: each distinct direction once
+        flat = np.ascontiguousarray(wo.reshape(-1, 3))
+        unique, inverse = np.unique(flat, axis=0, return_inverse=True)
+        value = _weighted_samples(lobe, unique, u, weights)
+        return value[inverse.ravel()].reshape(wo.shape[:-1] + (3,))
+    return _weighted_samples(lobe, wo, u, weights)
+
+
+def _weighted_samples(lobe, wo, u, weights):
+    """sum_k weights_k lobe._sample(wo, u_k).weight over the nodes k (first axis)."""
+    nodes = u.reshape((len(u),) + (1,) * (wo.ndim - 1) + (3,))
+    s = lobe._sample(np.broadcast_to(wo, (len(u),) + wo.shape), nodes)
+    return np.tensordot(weights, s.weight, axes=(0, 0))

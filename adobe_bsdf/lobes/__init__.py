@@ -13,6 +13,9 @@
 ``ASMSpecular``, ``ASMDiffuse``, ``asm_dielectric_base``    ASM energy-conserving diffuse (eq. 1)
 ``asm_metal(base_color, specular_edge_color, roughness, anisotropy_level, anisotropy_angle)``
                                                             ASM metal (F82-tint, §2-3)
+``DielectricReflection(eta, alpha_x, alpha_y=None)``        a dielectric's reflection alone
+``asm_coat(coat_ior, coat_roughness, ...)``, ``coat_transmittance``, ``base_ior_under_coat``
+                                                            the ASM coat (§7, Table 4)
 ``asm_dielectric(ior, roughness, anisotropy_level, anisotropy_angle, dispersion)``
                                                             ASM dielectric specular (§3-4)
 """
@@ -20,6 +23,12 @@
 from adobe_bsdf.lobes.asm_dielectric import asm_dielectric
 from adobe_bsdf.lobes.asm_diffuse import ASMDiffuse, ASMSpecular, asm_dielectric_base
 from adobe_bsdf.lobes.asm_metal import asm_metal
+from adobe_bsdf.lobes.coat import (
+    DielectricReflection,
+    asm_coat,
+    base_ior_under_coat,
+    coat_transmittance,
+)
 from adobe_bsdf.lobes.conductor import Conductor
 from adobe_bsdf.lobes.dielectric import Dielectric
 from adobe_bsdf.lobes.dispersive import Dispersive
@@ -36,4 +45,5 @@ from adobe_bsdf.lobes.sum import Sum
 __all__ = ["Lambert", "Conductor", "Dielectric", "Sum", "ConductorMultipleScattering",
            "ConductorMS", "DielectricMultipleScattering", "DielectricMS", "ASMSpecular",
            "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation", "asm_metal",
-           "Dispersive", "asm_dielectric"]
+           "Dispersive", "asm_dielectric", "DielectricReflection", "asm_coat",
+           "coat_transmittance", "base_ior_under_coat"]

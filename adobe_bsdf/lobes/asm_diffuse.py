@@ -10,15 +10,26 @@ from adobe_bsdf.lobes.conductor import Conductor
 from adobe_bsdf.lobes.energy_lookup import grey, lookup
 from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.lobes.sum import Sum
+from adobe_bsdf.microfacet import asm_alpha
 from adobe_bsdf.registry import CheckCase, register
 
-__all__ = ["ASMSpecular", "ASMDiffuse", "asm_dielectric_base"]
+__all__ = ["ASMSpecular", "ASMDiffuse", "asm_dielectric_base", "table_roughness"]
 
 
 def _asm_parameters(roughness, ior):
     roughness = _params.real("roughness", roughness, 0.0, 1.0)
     ior = _params.real("ior", ior, 1.0, tables.IOR_MAX)
     return roughness, ior
+
+
+def table_roughness(roughness, anisotropy_level):
+    """The isotropic roughness at which the ASM tables stand in for an anisotropic lobe:
+    r with r^2 = sqrt(alpha_x alpha_y) (eqs. 9-10), capped at the tables' 1 (alpha_x reaches 2
+    at r = a = 1); r itself where the lobe is isotropic. An approximation for a > 0: its
+    energy error is measured in ``docs/asm_measured.md``."""
+    alpha_x, alpha_y = asm_alpha(roughness, anisotropy_level)
+    r_eff = np.minimum(np.sqrt(np.sqrt(alpha_x * alpha_y)), 1.0)
+    return np.where(np.asarray(anisotropy_level) == 0.0, roughness, r_eff)
 
 
 def _lobe_integral(roughness, ior, w, with_error=False):
@@ -32,26 +43,31 @@ def _lobe_integral(roughness, ior, w, with_error=False):
 
 class ASMSpecular(Conductor):
     """The specular term S of seed ``000`` §1.1: GGX reflection with the exact dielectric
-    Fresnel of ``ior``, alpha = roughness^2 (seed ``000`` eq. 10). Its albedo is the lobe
-    integral L, tabulated as ``asm_diffuse_L``.
+    Fresnel of ``ior``, alpha_x = r^2 + a^4, alpha_y = r^2 (seed ``000`` eqs. 9-10). Its
+    albedo is the lobe integral L, tabulated as ``asm_diffuse_L`` (at ``table_roughness``
+    where anisotropic). Turn it with ``Rotated`` for the anisotropy angle.
 
     Parameters
     ----------
     roughness : array_like in [0, 1]
     ior : array_like in [1, 4]
         Index of the material under air.
+    anisotropy_level : array_like in [0, 1]
     """
 
-    def __init__(self, roughness, ior):
+    def __init__(self, roughness, ior, anisotropy_level=0.0):
         self.roughness, self.ior = _asm_parameters(roughness, ior)
-        alpha = self.roughness * self.roughness
-        super().__init__(alpha, fresnel=fresnel.ExactDielectric(self.ior))
+        self.anisotropy_level = _params.real("anisotropy_level", anisotropy_level, 0.0, 1.0)
+        super().__init__(*asm_alpha(self.roughness, self.anisotropy_level),
+                         fresnel=fresnel.ExactDielectric(self.ior))
+        self._table_r = table_roughness(self.roughness, self.anisotropy_level)
 
     def __repr__(self) -> str:
-        return f"ASMSpecular(roughness={self.roughness}, ior={self.ior})"
+        return (f"ASMSpecular(roughness={self.roughness}, ior={self.ior}, "
+                f"anisotropy_level={self.anisotropy_level})")
 
     def _albedo_table(self, wo, with_error=True):
-        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error)
+        L, error = _lobe_integral(self._table_r, self.ior, wo, with_error)
         return grey(L), grey(error)
 
 

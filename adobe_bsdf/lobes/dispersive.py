@@ -8,7 +8,7 @@ from adobe_bsdf import _params, fresnel
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy_iors
 from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
-from adobe_bsdf.lobes.sum import sample_where
+from adobe_bsdf.lobes.sum import choose, sample_where
 from adobe_bsdf.microfacet import distribution
 from adobe_bsdf.registry import CheckCase, register
 
@@ -138,8 +138,9 @@ class Dispersive(Lobe):
                         axis=-1)
 
     def _energy_scale(self, wo, wi):
-        raise ValueError("a Dispersive lobe's energy scale depends on the channel: use "
-                         "_energy_scale_rgb")
+        """The middle (green) channel's: where one scale must stand for all (the edges of
+        ``quadrature.albedo``'s map when this lobe is part of a larger BSDF)."""
+        return interface_energy_scale(self.eta[..., 1], wo, wi)
 
     def _sampling_weight(self, wo):
         return np.ones(wo.shape[:-1])  # lossless interface: R + T = 1 before masking
@@ -180,13 +181,7 @@ class Dispersive(Lobe):
         batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
         wo = np.broadcast_to(wo, batch + (3,))
         p = np.broadcast_to(channel_probabilities(throughput, batch), batch + (3,))
-        cdf = np.cumsum(p, axis=-1)
-        k = np.minimum((u[..., :1] >= cdf[..., :2]).sum(axis=-1), 2)
-        lo = np.where(k > 0, np.take_along_axis(cdf, np.maximum(k - 1, 0)[..., None], -1)[..., 0],
-                      0.0)
-        p_k = np.take_along_axis(p, k[..., None], -1)[..., 0]
-        u0 = np.clip((u[..., 0] - lo) / np.where(p_k > 0.0, p_k, 1.0), 0.0, np.nextafter(1.0, 0))
-        u = np.concatenate([u0[..., None], np.broadcast_to(u[..., 1:], batch + (2,))], axis=-1)
+        k, _, u = choose(np.moveaxis(p, -1, 0), u)
         wi, flags = np.zeros(batch + (3,)), np.full(batch, int(Flags.NONE))
         for c, ch in zip(_CHANNELS, self.channels, strict=True):
             chosen = k == c

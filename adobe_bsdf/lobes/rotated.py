@@ -99,6 +99,9 @@ class Rotated(Lobe):
     def _albedo_table(self, wo, with_error=True):
         return self.lobe._albedo_table(self._into(wo), with_error)
 
+    def _top_albedo(self, wo):
+        return self.lobe._top_albedo(self._into(wo))
+
     def _sampling_weight(self, wo):
         return self.lobe._sampling_weight(self._into(wo))
 

@@ -8,7 +8,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
 from adobe_bsdf.registry import CheckCase, register
 
-__all__ = ["Sum", "sample_where"]
+__all__ = ["Sum", "choose", "sample_where"]
 
 
 class Sum(Lobe):
@@ -125,14 +125,7 @@ class Sum(Lobe):
             return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
                               np.full(batch, int(Flags.NONE)))
         wo = np.broadcast_to(wo, batch + (3,))  # one wo for a batch of uniforms
-        P = self._probabilities(wo)
-        P = np.broadcast_to(P, P.shape[:1] + np.broadcast_shapes(P.shape[1:], u.shape[:-1]))
-        cdf = np.cumsum(P, axis=0)
-        k = np.minimum((u[..., 0] >= cdf[:-1]).sum(axis=0), len(self.components) - 1)
-        lo = np.where(k > 0, np.take_along_axis(cdf, np.maximum(k - 1, 0)[None], 0)[0], 0.0)
-        Pk = np.take_along_axis(P, k[None], 0)[0]
-        u0 = np.clip((u[..., 0] - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0, np.nextafter(1.0, 0))
-        u = np.concatenate([u0[..., None], u[..., 1:]], axis=-1)
+        k, Pk, u = choose(self._probabilities(wo), u)
         wi = np.zeros(batch + (3,))
         weight = np.zeros(batch + (3,))
         pdf = np.zeros(batch)
@@ -163,15 +156,29 @@ class Sum(Lobe):
     def _delta_albedo(self, wo):
         return self._total(self._terms("_delta_albedo", wo), wo.shape[:-1] + (3,))
 
+    @property
+    def eta(self):
+        """The shared interface's index (for generalized reciprocity), if any component
+        transmits."""
+        return getattr(self._interface(), "eta", None)
+
+    @property
+    def eta_per_channel(self) -> bool:
+        return getattr(self._interface(), "eta_per_channel", False)
+
+    def _interface(self) -> Lobe:
+        """The component whose interface sets the energy scale: the first that transmits
+        (the components share one interface), else any."""
+        for c in self.components:
+            if c.flags & Flags.TRANSMISSION:
+                return c
+        return self.components[0] if self.components else Lobe()
+
     def _energy_scale(self, wo, wi):
-        if not self.components:
-            return super()._energy_scale(wo, wi)
-        return self.components[0]._energy_scale(wo, wi)
+        return self._interface()._energy_scale(wo, wi)
 
     def _energy_scale_rgb(self, wo, wi):
-        if not self.components:
-            return super()._energy_scale_rgb(wo, wi)
-        return self.components[0]._energy_scale_rgb(wo, wi)
+        return self._interface()._energy_scale_rgb(wo, wi)
 
     def _albedo_table(self, wo, with_error=True):
         values, errors = [], []
@@ -188,6 +195,25 @@ class Sum(Lobe):
             return np.zeros(wo.shape[:-1])
         return sum(c._sampling_weight(wo) * (1.0 if w is None else luminance(w))
                    for c, w in zip(self.components, self.weights, strict=True))
+
+
+def choose(P, u):
+    """Pick component k with probability ``P[k]`` (``P`` (K, ...), summing to 1 over its
+    first axis) by the first uniform of ``u`` (..., 3), and re-use that uniform inside the
+    chosen interval (so a component that branches on it stays stratified).
+
+    Returns ``(k (...), P_k (...), u (..., 3))``, broadcast over ``P.shape[1:]`` and
+    ``u.shape[:-1]``.
+    """
+    batch = np.broadcast_shapes(P.shape[1:], u.shape[:-1])
+    P = np.broadcast_to(P, P.shape[:1] + batch)
+    cdf = np.cumsum(P, axis=0)
+    k = np.minimum((u[..., 0] >= cdf[:-1]).sum(axis=0), len(P) - 1)
+    lo = np.where(k > 0, np.take_along_axis(cdf, np.maximum(k - 1, 0)[None], 0)[0], 0.0)
+    Pk = np.take_along_axis(P, k[None], 0)[0]
+    u0 = np.clip((u[..., 0] - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0, np.nextafter(1.0, 0))
+    u = np.concatenate([u0[..., None], np.broadcast_to(u[..., 1:], batch + (2,))], axis=-1)
+    return k, Pk, u
 
 
 def sample_where(lobe: Lobe, wo, u, throughput, chosen) -> BSDFSample:
