@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf import fresnel
+from adobe_bsdf import fresnel, quadrature
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance, on_support
 from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
 from adobe_bsdf.microfacet import distribution
@@ -185,11 +185,17 @@ class Conductor(Lobe):
         )
 
     def _albedo_table(self, wo, with_error=True):
-        """E(mu_o, sqrt(alpha_x alpha_y)) of ``tables`` "ggx_conductor"; F = 1 only."""
-        if self.fresnel is not None:
-            raise ValueError("method = 'table' needs fresnel = None (F = 1) for a Conductor: "
-                             "the tables hold the F = 1 albedo")
-        return tuple(map(grey, conductor_energy(self.distribution, wo, with_error)))
+        """E(mu_o, sqrt(alpha_x alpha_y)) of ``tables`` "ggx_conductor" for F = 1. With a
+        Fresnel the albedo has no table: it is ``quadrature.sampled_albedo``, the 32 x 32
+        Gauss rule over the visible-normal sampler (error: |Q_32 - Q_16|)."""
+        if self.fresnel is None:
+            return tuple(map(grey, conductor_energy(self.distribution, wo, with_error)))
+        if self.distribution.smooth.all():
+            return self._delta_albedo(wo), np.zeros(wo.shape[:-1] + (3,))
+        value = quadrature.sampled_albedo(self, wo)
+        error = (np.abs(value - quadrature.sampled_albedo(self, wo, order=16))
+                 if with_error else None)
+        return value, error
 
     def _sampling_weight(self, wo):
         return luminance(self._F(np.abs(wo[..., 2])))
