@@ -9,23 +9,28 @@
 | ``ggx_dielectric_*_avg`` | alpha, eta | E_R_avg, E_T_avg | mu-averages of the two above |
 | ``asm_diffuse_L`` | mu, roughness, ior | L | seed ``000`` §1.1 eq. 1, lobe integral L |
 | ``asm_diffuse_T`` | roughness, ior | T | seed ``000`` §1.1 eq. 1, total integral T |
+| ``sheen_albedo`` | mu, roughness | E | seed ``000`` §6 eqs. 15-18 (c = a = p = 1) |
 
 Node values come from ``energy.ggx_energy`` (piecewise Gauss–Legendre, error estimate per
 node); roughness 0 is the smooth interface in closed form. Averages are not integrated
 afresh: they are the exact average of the mu-interpolant of their parent table, so that a
 Kulla–Conty or ASM diffuse term built from the interpolated tables integrates to exactly the
 energy it is meant to restore (``docs/tables.md``).
+
+The sheen table's nodes come from ``sheen_energy``, its own quadrature in direction space
+(``docs/sheen.md``).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.special import roots_legendre
 
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.tables.energy import ggx_energy
 from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
-__all__ = ["SPECS", "ETA_MAX", "IOR_MAX", "ALPHA_MAX"]
+__all__ = ["SPECS", "ETA_MAX", "IOR_MAX", "ALPHA_MAX", "sheen_energy"]
 
 #: largest index ratio n_dense / n_light of the dielectric tables (the ior range of ASM and
 #: OpenPBR, [1, 3]); from the dense side the relative index goes down to 1 / ETA_MAX
@@ -84,6 +89,98 @@ def _average(spec, *coords, parent: Table):
     return full(*coords), full.error(*coords)
 
 
+#: sheen quadrature: geometric panels (ratio 4) towards each end where the integrand has
+#: structure on small scales, this many levels deep (the finest panel is 4^-12 of the range)
+SHEEN_LEVELS = 12
+#: nodes processed at once by ``sheen_energy`` (memory)
+_SHEEN_CHUNK = 8
+
+
+def _graded(lo, hi, levels, ratio=4.0):
+    """Panel edges on [lo, hi], geometric towards ``lo``: lo, lo + w ratio^-levels, ..., hi."""
+    return np.concatenate([[lo], lo + (hi - lo) * ratio ** -np.arange(levels, -1.0, -1.0)])
+
+
+def _panels(edges, order):
+    """Gauss–Legendre nodes and weights of ``order`` points on every panel of ``edges``."""
+    x, w = roots_legendre(order)
+    a, b = edges[:-1, None], edges[1:, None]
+    return (0.5 * (a + b) + 0.5 * (b - a) * x).ravel(), (0.5 * (b - a) * w).ravel()
+
+
+def _sheen_rule(mu, r, p, order):
+    """E(mu, r) of the sheen BRDF (c = a = 1) at one quadrature order, for 1-D arrays."""
+    # wi = (cos t cos phi, cos t sin phi, sin t), wo = (s_o, 0, mu); by symmetry 2 x phi in
+    # [0, pi], written psi = pi - phi. t: graded towards the horizon (D's peak, G's boundary
+    # layer z_i ~ mu, exp(-p Lambda)) and towards the normal (sigma_i ~ sqrt(theta^2 + r^2)
+    # has branch points at theta = +-i r); psi: graded towards wi = -wo's azimuth, where
+    # |wo + wi| is smallest and h turns fastest.
+    quarter = _graded(0.0, np.pi / 4, SHEEN_LEVELS)
+    t, w_t = _panels(np.concatenate([quarter, (np.pi / 2 - quarter[::-1])[1:]]), order)
+    psi, w_psi = _panels(_graded(0.0, np.pi, SHEEN_LEVELS), order)
+    z_i, s_i = np.sin(t), np.cos(t)
+    half2 = np.sin(0.5 * psi) ** 2
+    z_o, r = mu[:, None], r[:, None]
+    s_o = np.sqrt(1.0 - z_o * z_o)
+    # eqs. 15, 17, 18: f cos_i = D G / (4 z_o) = D (1 - exp(-p Lambda)) z_i / (4 K) with
+    # K = sigma_i z_o + sigma_o z_i and Lambda = K / (z_i z_o) (finite at z_o = 0)
+    sigma_i = np.sqrt(s_i * s_i + r * r * z_i * z_i)
+    sigma_o = np.sqrt(s_o * s_o + r * r * z_o * z_o)
+    K = sigma_i * z_o + sigma_o * z_i
+    with np.errstate(divide="ignore"):
+        lam = K / (z_i * z_o)
+    g = -np.expm1(-p * lam) * z_i / (4.0 * K)  # (n, T)
+    # eq. 16 with h = s / |s|, s = wo + wi: D = r^3 |s|^4 / (pi (s_z^2 + r^2 (s_x^2 + s_y^2))^2)
+    sz2 = ((z_o + z_i) ** 2)[..., None]
+    horizontal = ((s_o - s_i) ** 2)[..., None] + 4.0 * (s_o * s_i)[..., None] * half2
+    length2 = horizontal + sz2
+    r3 = r[..., None]
+    D = r3**3 * length2**2 / (np.pi * (sz2 + r3 * r3 * horizontal) ** 2)  # (n, T, P)
+    return 2.0 * np.einsum("t,nt,ntp,p->n", w_t * s_i, g, D, w_psi)
+
+
+def sheen_energy(mu, roughness, p: float = 1.0, order: int = 16):
+    """Directional albedo E = int f(wi, wo) cos theta_i d wi of the sheen BRDF with c a = 1
+    (seed 000 §6 eqs. 15-18) and its error estimate, by piecewise Gauss–Legendre quadrature
+    in the direction of ``wi``.
+
+    Parameters
+    ----------
+    mu : array_like in [0, 1]
+        cos theta_o; 0 is the grazing limit mu -> 0, which is 1/2 for every roughness > 0.
+    roughness : array_like in [0, 1]
+        Sheen roughness r (not squared). At r = 0 the BRDF vanishes on the open hemisphere:
+        E = 0, except at the corner (0, 0), which holds the grazing limit 1/2 of the mu = 0
+        edge (``docs/sheen.md``).
+    p : float
+        Optical thickness p of the microflake layer (eq. 17), in (0, inf).
+    order : int
+        Gauss–Legendre points per panel and dimension.
+
+    Returns
+    -------
+    value, error : ndarray
+        E and |Q(order) - Q(2 order / 3)|, shaped like the broadcast inputs.
+    """
+    mu, r = np.broadcast_arrays(np.asarray(mu, dtype=np.float64),
+                                np.asarray(roughness, dtype=np.float64))
+    shape, mu, r = mu.shape, mu.ravel(), r.ravel()
+    value, error = np.zeros(mu.size), np.zeros(mu.size)
+    rough = np.flatnonzero(r > 0.0)
+    low = max(2, (2 * order) // 3)
+    for start in range(0, rough.size, _SHEEN_CHUNK):
+        k = rough[start:start + _SHEEN_CHUNK]
+        hi = _sheen_rule(mu[k], r[k], p, order)
+        value[k], error[k] = hi, np.abs(hi - _sheen_rule(mu[k], r[k], p, low))
+    value[(r == 0.0) & (mu == 0.0)] = 0.5
+    return value.reshape(shape), error.reshape(shape)
+
+
+def _sheen(spec, mu, roughness):
+    value, error = sheen_energy(mu, roughness, order=spec.order)
+    return value[:, None], error[:, None]
+
+
 _MU = Axis("mu", 0.0, 1.0, 48, "log-linear", "cubic")
 _ALPHA = Axis("alpha", 0.0, ALPHA_MAX, 48, "log-linear", "cubic")
 _ALPHA_128 = Axis("alpha", 0.0, ALPHA_MAX, 128, "log-linear", "cubic")
@@ -94,6 +191,14 @@ _ALPHA_128 = Axis("alpha", 0.0, ALPHA_MAX, 128, "log-linear", "cubic")
 _ETA = Axis("eta", 1.0, ETA_MAX, 32, "log-linear", "cubic", log_scale=0.2)
 _ROUGHNESS = Axis("roughness", 0.0, 1.0, 48, "log-linear", "cubic")
 _IOR = Axis("ior", 1.0, IOR_MAX, 24, "log-linear", "cubic", log_scale=0.3)
+# near mu = 0 and r = 0 the sheen albedo is a function of mu / r (and has a mu ln mu term at
+# mu = 0): log-spaced nodes down to ~1e-5 on both axes (below, ``lobes.Sheen`` maps small r
+# onto the table by that similarity, ``docs/sheen.md``)
+_SHEEN_MU = Axis("mu", 0.0, 1.0, 96, "log-linear", "cubic", log_scale=0.5)
+_SHEEN_ROUGHNESS = Axis("roughness", 0.0, 1.0, 96, "log-linear", "cubic", log_scale=0.5)
+_SHEEN_QUADRATURE = ("piecewise Gauss-Legendre over (theta_i, phi_i) (scipy.special."
+                     "roots_legendre), panels graded geometrically towards the horizon, the "
+                     "normal and the azimuth of -wo; error = |Q(n) - Q(2n/3)|")
 
 
 def _spec(name, axes, outputs, compute, description, depends=()):
@@ -123,4 +228,7 @@ SPECS: dict[str, TableSpec] = {s.name: s for s in [
     _spec("asm_diffuse_T", (_ROUGHNESS, _IOR), ("T",), _average,
           "ASM total integral T = (1/pi) int L dsigma = 2 int L mu dmu",
           depends=("asm_diffuse_L",)),
+    TableSpec("sheen_albedo", (_SHEEN_MU, _SHEEN_ROUGHNESS), ("E",), _sheen, _SHEEN_QUADRATURE,
+              16, (), "directional albedo E(mu, r) = int f cos theta_i d wi of the sheen BRDF "
+              "with c = a = p = 1: seed 000 §6 eqs. 15-18"),
 ]}
