@@ -77,16 +77,8 @@ def asm_parameters(draw, with_sheen=True):
     return p
 
 
-def _sheen_available():
-    try:
-        import adobe_bsdf.lobes.sheen  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 @settings(max_examples=12, deadline=None)
-@given(p=asm_parameters(with_sheen=_sheen_available()))
+@given(p=asm_parameters())
 def test_albedo_never_exceeds_one(p):
     """Acceptance 2: for colours <= 1, the material's albedo (quadrature of eval plus delta
     branches, energy convention) is <= 1 + 1e-3 above and below the surface."""
@@ -102,7 +94,7 @@ def test_albedo_never_exceeds_one(p):
 
 
 @settings(max_examples=60, deadline=None)
-@given(p=asm_parameters(with_sheen=_sheen_available()))
+@given(p=asm_parameters())
 def test_outputs_are_finite(p):
     """Acceptance 5: no NaN or Inf anywhere in the parameter range, grazing angles included."""
     material = ASM(**p)
@@ -138,13 +130,12 @@ MATERIALS = {
                                             coat_opacity=1.0, coat_ior=1.8, ior=1.4,
                                             coat_color=(0.8, 0.9, 1.0)),
 }
-if _sheen_available():
-    MATERIALS["sheen"] = dict(base_color=(0.2, 0.3, 0.6), roughness=0.6, sheen_opacity=1.0,
-                              sheen_color=(1.0, 0.8, 0.6), sheen_roughness=0.3)
-    MATERIALS["everything"] = dict(base_color=(0.6, 0.5, 0.4), roughness=0.35, metallic=0.3,
-                                   translucency=0.4, dispersion=0.5, anisotropy_level=0.4,
-                                   sheen_opacity=0.5, sheen_roughness=0.5, coat_opacity=0.5,
-                                   coat_color=(0.9, 0.9, 0.7), emissive_intensity=1.0)
+MATERIALS["sheen"] = dict(base_color=(0.2, 0.3, 0.6), roughness=0.6, sheen_opacity=1.0,
+                          sheen_color=(1.0, 0.8, 0.6), sheen_roughness=0.3)
+MATERIALS["everything"] = dict(base_color=(0.6, 0.5, 0.4), roughness=0.35, metallic=0.3,
+                               translucency=0.4, dispersion=0.5, anisotropy_level=0.4,
+                               sheen_opacity=0.5, sheen_roughness=0.5, coat_opacity=0.5,
+                               coat_color=(0.9, 0.9, 0.7), emissive_intensity=1.0)
 CHI2_CASES = [(name, c) for name in MATERIALS for c in (0.8, 0.3, -0.6)
               if c > 0 or MATERIALS[name].get("translucency")]
 

@@ -14,6 +14,7 @@
 ``asm_metal(base_color, specular_edge_color, roughness, anisotropy_level, anisotropy_angle)``
                                                             ASM metal (F82-tint, §2-3)
 ``DielectricReflection(eta, alpha_x, alpha_y=None)``        a dielectric's reflection alone
+``Sheen(color, roughness, c=2, p=1)``                         ASM microflake sheen (§6)
 ``asm_coat(coat_ior, coat_roughness, ...)``, ``coat_transmittance``, ``base_ior_under_coat``
                                                             the ASM coat (§7, Table 4)
 ``asm_dielectric(ior, roughness, anisotropy_level, anisotropy_angle, dispersion)``
@@ -40,10 +41,11 @@ from adobe_bsdf.lobes.kulla_conty import (
 )
 from adobe_bsdf.lobes.lambert import Lambert
 from adobe_bsdf.lobes.rotated import Rotated, anisotropy_rotation
+from adobe_bsdf.lobes.sheen import Sheen
 from adobe_bsdf.lobes.sum import Sum
 
 __all__ = ["Lambert", "Conductor", "Dielectric", "Sum", "ConductorMultipleScattering",
            "ConductorMS", "DielectricMultipleScattering", "DielectricMS", "ASMSpecular",
            "ASMDiffuse", "asm_dielectric_base", "Rotated", "anisotropy_rotation", "asm_metal",
            "Dispersive", "asm_dielectric", "DielectricReflection", "asm_coat",
-           "coat_transmittance", "base_ior_under_coat"]
+           "coat_transmittance", "base_ior_under_coat", "Sheen"]

@@ -28,6 +28,7 @@ from adobe_bsdf.lobes.coat import (
     coat_transmittance,
 )
 from adobe_bsdf.lobes.rotated import Rotated, anisotropy_rotation
+from adobe_bsdf.lobes.sheen import Sheen
 from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.materials.material import Material
 from adobe_bsdf.registry import CheckCase, register
@@ -144,8 +145,6 @@ class AdobeStandardMaterial(Material):
             self._layers.append(bsdf)
         sheen = _c(p["sheen_opacity"]) * p["sheen_color"]
         if _any(sheen):
-            from adobe_bsdf.lobes.sheen import Sheen
-
             self.lobes["sheen"] = Sheen(sheen, p["sheen_roughness"])
             bsdf = Layer(self.lobes["sheen"], bsdf)
             self._layers.append(bsdf)
