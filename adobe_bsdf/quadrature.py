@@ -441,6 +441,9 @@ def albedo(lobe, wo: np.ndarray, *, tol: float = 1e-8, n_theta: int = 16, n_phi:
 
 #: standard errors beyond which ``albedo`` warns that its guard samples disagree
 GUIDE_SIGMAS = 6.0
+#: successful guard samples a direction needs before they are compared (a sampler that
+#: rarely succeeds, e.g. the sheen far above its roughness, says nothing with fewer)
+GUIDE_MIN_SUCCESSES = 10
 
 
 def _check_against_guides(lobe, wo, s, value, tol):
@@ -453,6 +456,9 @@ def _check_against_guides(lobe, wo, s, value, tol):
     the error estimate cannot see."""
     energy = s.weight * lobe._energy_scale_rgb(np.broadcast_to(wo, s.wi.shape), s.wi)
     n = energy.shape[0]
+    informed = (s.pdf > 0.0).sum(axis=0) >= GUIDE_MIN_SUCCESSES
+    energy = np.where(np.broadcast_to(informed, energy.shape[1:-1])[..., None], energy, 0.0)
+    value = np.where(np.broadcast_to(informed, value.shape[:-1])[..., None], value, 0.0)
     mean = energy.mean(axis=0)
     sigma = energy.std(axis=0, ddof=1) / np.sqrt(n)
     rare = np.abs(energy).max(axis=0) / n

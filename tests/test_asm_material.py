@@ -1,5 +1,7 @@
 """``AdobeStandardMaterial``, its coat and ``layering.Layer`` (seed 000 §1, §6, §7)."""
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -84,12 +86,13 @@ def test_albedo_never_exceeds_one(p):
     branches, energy convention) is <= 1 + 1e-3 above and below the surface."""
     material = ASM(**p)
     wo = np.concatenate([WO, -WO[:2]])
-    ridge = ((p["roughness"] == 0.0 and p["anisotropy_level"] > 0.0)
-             or (p["coat_roughness"] == 0.0 and p["coat_anisotropy_level"] > 0.0))
-    if ridge:  # alpha_y = 1e-8 across a ridge: no cubature sees it (docs/asm.md); MC does
-        E, sigma = material.albedo(wo, method="mc", n_samples=100_000, return_error=True)
-    else:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         E, sigma = material.albedo(wo, tol=1e-5), 0.0
+    if any("guard samples" in str(w.message) for w in caught):
+        # a lobe narrower than the cubature resolves (alpha_y = 1e-8 across a ridge, a nearly
+        # smooth coat): the quadrature says so (docs/asm.md), Monte Carlo sees it
+        E, sigma = material.albedo(wo, method="mc", n_samples=100_000, return_error=True)
     assert np.all(E <= 1.0 + FURNACE_TABLE + 5.0 * sigma), (p, E)
 
 

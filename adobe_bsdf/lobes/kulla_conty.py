@@ -223,7 +223,6 @@ class DielectricMS(Sum):
     def __init__(self, eta, alpha_x, alpha_y=None):
         super().__init__(Dielectric(eta, alpha_x, alpha_y),
                          DielectricMultipleScattering(eta, alpha_x, alpha_y))
-        self.eta = self.components[0].eta
 
 
 #: white-furnace bounds of the table-based terms: the tables' interpolation error
