@@ -37,6 +37,9 @@ class CheckCase:
     furnace_tol : float
         Allowed |quadrature albedo - expected_albedo| (table-based models: their measured
         interpolation error, ``docs/tables.md``).
+    reciprocal : bool
+        False for a BSDF that is not reciprocal by design (albedo-scaled layers): its
+        reciprocity error is listed, not judged.
     """
 
     name: str
@@ -47,6 +50,7 @@ class CheckCase:
     peak: Callable | None = None
     tags: tuple = field(default=("fast",))
     furnace_tol: float = 1e-6
+    reciprocal: bool = True
 
 
 _CASES: list[CheckCase] = []
