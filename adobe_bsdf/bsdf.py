@@ -23,7 +23,8 @@ import numpy as np
 
 from adobe_bsdf import _params, config, quadrature
 
-__all__ = ["Flags", "BSDFSample", "Lobe", "ALBEDO_METHODS", "luminance", "on_support"]
+__all__ = ["Flags", "BSDFSample", "Lobe", "Wrapper", "SupportLobe", "ALBEDO_METHODS", "luminance",
+           "on_support", "finished_sample"]
 
 ALBEDO_METHODS = ("quadrature", "mc", "table")
 #: Rec. 709 / sRGB luminance weights of linear RGB
@@ -338,3 +339,56 @@ class Lobe:
     def _delta_albedo(self, wo):
         """Energy albedo ``(..., 3)`` of the lobe's delta branches (0 for a lobe without)."""
         return np.zeros(wo.shape[:-1] + (3,))
+
+
+class Wrapper(Lobe):
+    """A lobe built around another, ``_inner()``, whose interface it shares: ``eta`` and
+    ``eta_per_channel`` (read by ``validation.checks.reciprocity_error``) are the inner
+    lobe's."""
+
+    def _inner(self) -> Lobe:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    @property
+    def eta(self):
+        """The inner lobe's interface index (generalized reciprocity), or None."""
+        return getattr(self._inner(), "eta", None)
+
+    @property
+    def eta_per_channel(self) -> bool:
+        """Whether ``eta`` has one index per colour channel (``Dispersive``)."""
+        return getattr(self._inner(), "eta_per_channel", False)
+
+
+class SupportLobe(Lobe):
+    """A lobe whose ``eval``, ``pdf`` and ``eval_pdf`` are kernels ``(wo, wi, up)`` run on its
+    support only (``on_support``): subclasses define ``_support(wo, wi) -> bool (...)`` and
+    ``_eval_kernel``, ``_pdf_kernel``, ``_eval_pdf_kernel``."""
+
+    def _support(self, wo, wi):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _on_support(self, kernel, wo, wi):
+        return on_support(kernel, self._support(wo, wi), wo, wi,
+                          compact=self._param_shape() == ())
+
+    def _eval(self, wo, wi):
+        return self._on_support(self._eval_kernel, wo, wi)
+
+    def _pdf(self, wo, wi):
+        return self._on_support(self._pdf_kernel, wo, wi)
+
+    def _eval_pdf(self, wo, wi):
+        return self._on_support(self._eval_pdf_kernel, wo, wi)
+
+
+def finished_sample(wi, weight, pdf, flags) -> BSDFSample:
+    """The ``BSDFSample`` of a sampler's raw arrays, with the failed elements (no flags, or
+    pdf 0) zeroed as the protocol requires."""
+    ok = (flags != int(Flags.NONE)) & (pdf > 0.0)
+    return BSDFSample(
+        wi=np.where(ok[..., None], wi, 0.0),
+        weight=np.where(ok[..., None], weight, 0.0),
+        pdf=np.where(ok, pdf, 0.0),
+        flags=np.where(ok, flags, int(Flags.NONE)),
+    )

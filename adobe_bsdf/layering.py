@@ -27,13 +27,13 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.bsdf import Flags, Lobe, Wrapper, finished_sample, luminance
 from adobe_bsdf.lobes.sum import choose, sample_where
 
 __all__ = ["Layer"]
 
 
-class Layer(Lobe):
+class Layer(Wrapper):
     """``top`` over ``base`` by albedo scaling (module docstring).
 
     Parameters
@@ -67,14 +67,8 @@ class Layer(Lobe):
     def __repr__(self) -> str:
         return f"Layer({self.top!r}, {self.base!r}, coverage={self.coverage!r})"
 
-    @property
-    def eta(self):
-        """The base's interface index (the top reflects only)."""
-        return getattr(self.base, "eta", None)
-
-    @property
-    def eta_per_channel(self) -> bool:
-        return getattr(self.base, "eta_per_channel", False)
+    def _inner(self):
+        return self.base  # the interface is the base's: the top reflects only
 
     def exit_weight(self, wo):
         """(1 - c) + c t(wo) (1 - E_top(wo)) ``(..., 3)``: the share of light leaving the base
@@ -154,13 +148,7 @@ class Layer(Lobe):
                            self._weight(wo, wi, scaled) * s_base.weight) / P_k[..., None]
         weight = np.where(delta[..., None], own, weight)
         pdf = np.where(delta, P_k * np.where(k == 0, s_top.pdf, s_base.pdf), pdf)
-        ok = (flags != int(Flags.NONE)) & (pdf > 0.0)
-        return BSDFSample(
-            wi=np.where(ok[..., None], wi, 0.0),
-            weight=np.where(ok[..., None], weight, 0.0),
-            pdf=np.where(ok, pdf, 0.0),
-            flags=np.where(ok, flags, int(Flags.NONE)),
-        )
+        return finished_sample(wi, weight, pdf, flags)
 
     def _delta_albedo(self, wo):
         scaled, _ = self._scaled(wo)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import fresnel, quadrature
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance, on_support
+from adobe_bsdf.bsdf import BSDFSample, Flags, SupportLobe, luminance
 from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
 from adobe_bsdf.microfacet import distribution
 from adobe_bsdf.registry import CheckCase, register
@@ -13,7 +13,7 @@ from adobe_bsdf.registry import CheckCase, register
 __all__ = ["Conductor"]
 
 
-class Conductor(Lobe):
+class Conductor(SupportLobe):
     """Microfacet reflection f = F(wo.h) D(h) G2(wo, wi) / (4 |cos o| |cos i|).
 
     Walter et al. 2007 eq. 20 with an anisotropic distribution of ``adobe_bsdf.microfacet``
@@ -125,21 +125,12 @@ class Conductor(Lobe):
         pdf = D / (2.0 * (wo[..., 2] + s_o))
         return pdf if up is None else np.where(up, pdf, 0.0)
 
-    def _eval(self, wo, wi):
-        return self._on_support(self._eval_kernel, wo, wi)
-
-    def _pdf(self, wo, wi):
-        return self._on_support(self._pdf_kernel, wo, wi)
-
-    def _eval_pdf(self, wo, wi):
-        return self._on_support(self._eval_pdf_kernel, wo, wi)
-
-    def _on_support(self, kernel, wo, wi):
-        """``kernel`` on the pairs with both directions above a rough surface only."""
+    def _support(self, wo, wi):
+        """Both directions above a rough surface."""
         inside = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
         if np.any(self.distribution.smooth):
             inside = inside & ~self.distribution.smooth  # may broadcast to the alphas
-        return on_support(kernel, inside, wo, wi, compact=self._param_shape() == ())
+        return inside
 
     def _eval_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore"):

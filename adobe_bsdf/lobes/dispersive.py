@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, fresnel
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy_iors
 from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
 from adobe_bsdf.lobes.sum import choose, sample_where
@@ -196,13 +196,7 @@ class Dispersive(Lobe):
             d_weight, d_pdf = self._delta_mixture(wo, k, flags, p)
             weight = np.where(delta[..., None], d_weight, weight)
             pdf = np.where(delta, d_pdf, pdf)
-        ok = (flags != int(Flags.NONE)) & (pdf > 0.0)
-        return BSDFSample(
-            wi=np.where(ok[..., None], wi, 0.0),
-            weight=np.where(ok[..., None], weight, 0.0),
-            pdf=np.where(ok, pdf, 0.0),
-            flags=np.where(ok, flags, int(Flags.NONE)),
-        )
+        return finished_sample(wi, weight, pdf, flags)
 
     def _delta_mixture(self, wo, k, flags, p):
         """(weight, probability) of delta samples (smooth or index-matched interface) of

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Lobe
+from adobe_bsdf.bsdf import BSDFSample, Lobe, Wrapper
 from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Rotated", "anisotropy_rotation"]
@@ -17,7 +17,7 @@ def anisotropy_rotation(anisotropy_angle):
     return 2.0 * np.pi * _params.real("anisotropy_angle", anisotropy_angle, 0.0, 1.0)
 
 
-class Rotated(Lobe):
+class Rotated(Wrapper):
     """``lobe`` with its tangent x axis (alpha_x) turned by ``phi`` about the normal.
 
     f(wo, wi) = lobe.f(R(-phi) wo, R(-phi) wi), with R(t) the rotation by t about z; samples
@@ -42,15 +42,8 @@ class Rotated(Lobe):
     def __repr__(self) -> str:
         return f"Rotated({self.lobe!r}, phi={self.phi})"
 
-    @property
-    def eta(self):
-        """The wrapped lobe's ``eta`` (for generalized reciprocity), if it has one."""
-        return getattr(self.lobe, "eta", None)
-
-    @property
-    def eta_per_channel(self) -> bool:
-        """Whether ``eta`` has one index per colour channel (a ``Dispersive`` lobe)."""
-        return getattr(self.lobe, "eta_per_channel", False)
+    def _inner(self):
+        return self.lobe
 
     def _param_shape(self):
         shape = self.lobe._param_shape()

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance, on_support
+from adobe_bsdf.bsdf import BSDFSample, Flags, SupportLobe, luminance
 from adobe_bsdf.lobes.energy_lookup import lookup
 from adobe_bsdf.registry import CheckCase, register
 
@@ -40,7 +40,7 @@ __all__ = ["Sheen", "R_SIMILAR"]
 R_SIMILAR = 5e-3
 
 
-class Sheen(Lobe):
+class Sheen(SupportLobe):
     """Microflake sheen f = c a D(h) G(wi, wo) / (4 cos theta_i cos theta_o) (seed 000 eq. 15).
 
     0 unless both directions are above the surface. With h = (wo + wi) / |wo + wi|:
@@ -133,9 +133,8 @@ class Sheen(Lobe):
         return -np.expm1(-self.p * (K / (oz * iz))), K
 
     # -- eval and pdf ---------------------------------------------------------------------
-    def _on_support(self, kernel, wo, wi):
-        inside = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0) & (self.roughness > 0.0)
-        return on_support(kernel, inside, wo, wi, compact=self._param_shape() == ())
+    def _support(self, wo, wi):
+        return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0) & (self.roughness > 0.0)
 
     def _f(self, wo, wi, up, D):
         """D G / (4 cos_i cos_o) (eq. 15 without c a), 0 outside ``up``."""
@@ -161,14 +160,6 @@ class Sheen(Lobe):
             D = self._D(wo, wi)
             return self._scale * self._f(wo, wi, up, D)[..., None], self._p(wo, up, D)
 
-    def _eval(self, wo, wi):
-        return self._on_support(self._eval_kernel, wo, wi)
-
-    def _pdf(self, wo, wi):
-        return self._on_support(self._pdf_kernel, wo, wi)
-
-    def _eval_pdf(self, wo, wi):
-        return self._on_support(self._eval_pdf_kernel, wo, wi)
 
     # -- sampling ---------------------------------------------------------------------------
     def _sample(self, wo, u):

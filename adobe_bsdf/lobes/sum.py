@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, luminance
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample, luminance
 from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Sum", "choose", "sample_where"]
@@ -139,19 +139,11 @@ class Sum(Lobe):
             pdf = np.where(chosen, s.pdf, pdf)
             flags = np.where(chosen, s.flags, flags)
         delta = (flags & int(Flags.DELTA)) != 0
-        ok = flags != int(Flags.NONE)
         f, mix_pdf = self._eval_pdf_t(wo, wi, throughput)
         smooth_weight = f * np.abs(wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf, 1.0)[..., None]
         weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None],
                           np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
-        pdf = np.where(delta, Pk * pdf, mix_pdf)
-        ok = ok & (pdf > 0.0)
-        return BSDFSample(
-            wi=np.where(ok[..., None], wi, 0.0),
-            weight=np.where(ok[..., None], weight, 0.0),
-            pdf=np.where(ok, pdf, 0.0),
-            flags=np.where(ok, flags, int(Flags.NONE)),
-        )
+        return finished_sample(wi, weight, np.where(delta, Pk * pdf, mix_pdf), flags)
 
     def _delta_albedo(self, wo):
         return self._total(self._terms("_delta_albedo", wo), wo.shape[:-1] + (3,))

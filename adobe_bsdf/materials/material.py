@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf.bsdf import Lobe
+from adobe_bsdf.bsdf import Lobe, Wrapper
 
 __all__ = ["Material"]
 
 
-class Material(Lobe):
+class Material(Wrapper):
     """One BSDF made of the lobe tree ``bsdf`` (built by a subclass), with the full protocol
     forwarded to it, ``emission(wo)`` and ``medium()``.
 
@@ -23,14 +23,8 @@ class Material(Lobe):
     def flags(self):
         return self.bsdf.flags
 
-    @property
-    def eta(self):
-        """The interface's index (for generalized reciprocity), if the material transmits."""
-        return getattr(self.bsdf, "eta", None)
-
-    @property
-    def eta_per_channel(self) -> bool:
-        return getattr(self.bsdf, "eta_per_channel", False)
+    def _inner(self):
+        return self.bsdf
 
     def emission(self, wo) -> np.ndarray:
         """Emitted radiance towards ``wo``, RGB ``(..., 3)`` (none by default)."""
