@@ -778,6 +778,10 @@ def _unit_axis(axis) -> np.ndarray:
     return arr / norm
 
 
+#: samples per chunk of ``sampled_albedo`` (memory: a few arrays of this many directions)
+SAMPLED_CHUNK = 1 << 18
+
+
 def sampled_albedo(lobe, wo: np.ndarray, order: int = 32) -> np.ndarray:
     """Albedo ``(..., 3)`` of a single-branch lobe as the integral of its sample weights over
     the unit square of its two direction uniforms, by an ``order`` x ``order``
@@ -797,10 +801,12 @@ def sampled_albedo(lobe, wo: np.ndarray, order: int = 32) -> np.ndarray:
     u1, u2 = (a.ravel() for a in np.meshgrid(x, x, indexing="ij"))
     weights = np.outer(w, w).ravel()
     u = np.stack([np.full(u1.size, 0.5), u1, u2], axis=-1)
-    if lobe._param_shape() == ():  # one lobe: each distinct direction once
+    if lobe._param_shape() == ():  # one lobe: each distinct direction once, in chunks
         flat = np.ascontiguousarray(wo.reshape(-1, 3))
         unique, inverse = np.unique(flat, axis=0, return_inverse=True)
-        value = _weighted_samples(lobe, unique, u, weights)
+        step = max(1, SAMPLED_CHUNK // len(u))
+        value = np.concatenate([_weighted_samples(lobe, unique[i:i + step], u, weights)
+                                for i in range(0, len(unique), step)] or [np.zeros((0, 3))])
         return value[inverse.ravel()].reshape(wo.shape[:-1] + (3,))
     return _weighted_samples(lobe, wo, u, weights)
 

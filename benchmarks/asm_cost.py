@@ -8,7 +8,8 @@ and transmissive dielectric with dispersion and anisotropy, coat with a colour, 
 each, the lobes built (``AdobeStandardMaterial.lobes``) and the median of ``runs`` timings
 of ``eval`` and ``sample`` on the same ``pairs`` random pairs, all measured in this one run,
 with the ratio to the plain diffuse material. An anisotropic coat is a separate row: its
-albedo (under which the base is scaled) is a 32 x 32 Gauss rule per distinct ``wo``.
+albedo (under which the base is scaled) is a 32 x 32 Gauss rule per distinct ``wo``, so that
+row is timed on a tenth of the pairs (times are per pair).
 """
 
 from __future__ import annotations
@@ -48,33 +49,35 @@ MATERIALS = [
 
 
 def measure(pairs: int, runs: int):
+    """Rows ``(label, lobes, pairs timed, {call: seconds per pair})``."""
     wo, wi, u = tp.directions(pairs, seed=3)
     rows = []
     for label, params in MATERIALS:
         material = AdobeStandardMaterial(**params)
+        n = pairs // 10 if params.get("coat_anisotropy_level") else pairs
         times = {}
         for call in ("eval", "sample"):
             tp._call(material, call, wo[:100], wi[:100], u[:100])  # warm-up (tables load)
-            times[call] = tp._median(
-                lambda c=call, m=material: tp.time_call(m, c, wo, wi, u), runs)[0]
-        rows.append((label, list(material.lobes), times))
+            times[call] = tp._median(lambda c=call, m=material, n=n: tp.time_call(
+                m, c, wo[:n], wi[:n], u[:n]), runs)[0] / n
+        rows.append((label, list(material.lobes), n, times))
     return rows
 
 
 def markdown(rows, pairs, runs, seconds):
-    base = rows[0][2]
+    base = rows[0][3]
     out = ["# ASM: cost against the lobes in use", "",
            generated_by("benchmarks.asm_cost", seconds, "asm.md"), "",
-           f"Median of {runs} runs over the same {pairs} random pairs (``wo`` above the "
-           "surface, ``wi`` anywhere), all threads; ratios to the plain diffuse material "
+           f"Median of {runs} runs over the same random pairs (`wo` above the surface, `wi` "
+           "anywhere), all threads, in µs per pair; ratios to the plain diffuse material "
            "measured in this run. Lobes whose weight is zero are not built.", "",
-           "| material | lobes built | eval | sample | eval ratio | sample ratio |",
-           "|---|---|---|---|---|---|"]
-    for label, lobes, t in rows:
-        out.append(f"| {label} | {', '.join(lobes)} | {t['eval'] * 1e3:.1f} ms | "
-                   f"{t['sample'] * 1e3:.1f} ms | {t['eval'] / base['eval']:.2f} | "
+           "| material | lobes built | pairs | eval (µs/pair) | sample (µs/pair) | eval ratio "
+           "| sample ratio |", "|---|---|---|---|---|---|---|"]
+    for label, lobes, n, t in rows:
+        out.append(f"| {label} | {', '.join(lobes)} | {n} | {t['eval'] * 1e6:.2f} | "
+                   f"{t['sample'] * 1e6:.2f} | {t['eval'] / base['eval']:.2f} | "
                    f"{t['sample'] / base['sample']:.2f} |")
-    full = next(t for label, _, t in rows if label.startswith("fully loaded ("))
+    full = next(t for label, _, _, t in rows if label.startswith("fully loaded ("))
     out += ["", f"A plain diffuse material costs {base['eval'] / full['eval']:.2f} of a fully "
             f"loaded one in `eval` and {base['sample'] / full['sample']:.2f} in `sample`.", ""]
     return "\n".join(out)
