@@ -17,6 +17,7 @@ from adobe_bsdf import (
     microfacet,
     quadrature,
     registry,
+    render,
     spectral,
     tables,
 )
@@ -25,6 +26,6 @@ from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
 __all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "layering", "lobes", "materials",
-           "media", "microfacet", "quadrature", "registry", "spectral", "tables", "BSDFSample",
-           "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
+           "media", "microfacet", "quadrature", "registry", "render", "spectral", "tables",
+           "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"
