@@ -198,3 +198,22 @@ def test_sheen_report_smoke(tmp_path):
                     "## The table `sheen_albedo`", "## Albedo methods",
                     "## Success of the visible-normal sampler"):
         assert heading in text, heading
+
+
+def test_render_report_writes_the_gallery_and_timings(tmp_path):
+    from benchmarks import render_report
+
+    page = render_report.run(tmp_path, size=12, spp=1)
+    text = page.read_text(encoding="utf-8")
+    assert (tmp_path / "figures" / "gallery.png").read_bytes()[:4] == b"\x89PNG"
+    for label, _ in render_report.GALLERY:
+        assert f"| {label} |" in text
+
+
+def test_asm_cost_lists_every_material(tmp_path):
+    from benchmarks import asm_cost
+
+    text = asm_cost.run(tmp_path, pairs=200, runs=1).read_text(encoding="utf-8")
+    for label, _ in asm_cost.MATERIALS:
+        assert f"| {label} |" in text
+    assert "costs" in text
