@@ -15,6 +15,7 @@ from adobe_bsdf import (
     materials,
     media,
     microfacet,
+    plot,
     quadrature,
     registry,
     render,
@@ -26,6 +27,6 @@ from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
 __all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "layering", "lobes", "materials",
-           "media", "microfacet", "quadrature", "registry", "render", "spectral", "tables",
+           "media", "microfacet", "plot", "quadrature", "registry", "render", "spectral", "tables",
            "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"
