@@ -26,7 +26,6 @@ import struct
 import zlib
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, Lobe, luminance
@@ -253,7 +252,12 @@ def sphere(bsdf: Lobe, env="furnace", size: int = 128, spp: int = 64, seed: int 
     hit = r2 < 1.0
     p = np.stack([x[hit], y[hit], np.sqrt(1.0 - r2[hit])], axis=-1)
     total = np.zeros((len(p), 3))
-    for _ in tqdm(range(spp), desc="render", disable=not progress, leave=False):
+    samples = range(spp)
+    if progress:  # imported here: in a notebook without ipywidgets tqdm.auto warns on import
+        from tqdm.auto import tqdm
+
+        samples = tqdm(samples, desc="render", leave=False)
+    for _ in samples:
         total += _trace(bsdf, environment, p, rng, max_depth)
     image = np.empty((size, size, 3))
     image[...] = environment.radiance(np.array([0.0, 0.0, -1.0]))
