@@ -46,6 +46,8 @@ class Layer(Wrapper):
     transmittance : callable or None
         ``transmittance(w) -> (..., 3)``, t(w) in [0, 1]; None is 1.
 
+    Notes
+    -----
     Sampling picks the top with probability proportional to c lum(E_top(wo)) and the base
     with lum(W(wo, wo')) times the base's albedo estimate (wo' the mirror of wo), and weighs
     non-delta samples by the one-sample balance heuristic, as ``Sum``. The base's delta

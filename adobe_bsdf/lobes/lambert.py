@@ -20,6 +20,8 @@ class Lambert(Lobe):
     albedo : colour in [0, 1], scalar or (..., 3)
         Directional albedo (constant in ``wo``).
 
+    Notes
+    -----
     Sampling is cosine-weighted (Malley's method on Shirley and Chiu's concentric disk),
     so ``weight = albedo`` exactly.
     """

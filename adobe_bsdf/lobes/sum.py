@@ -23,6 +23,8 @@ class Sum(Lobe):
         A component whose weight is 0 everywhere is dropped at construction: it is never
         evaluated or sampled (``components`` holds the active ones only).
 
+    Notes
+    -----
     Sampling picks component k with probability P_k(wo) proportional to
     lum(w_k) ``_sampling_weight_k(wo)`` (an albedo estimate), samples it, and weighs a
     non-delta sample by the whole sum, weight = f |cos| / pdf with pdf = sum_k P_k pdf_k (the
