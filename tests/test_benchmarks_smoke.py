@@ -217,3 +217,12 @@ def test_asm_cost_lists_every_material(tmp_path):
     for label, _ in asm_cost.MATERIALS:
         assert f"| {label} |" in text
     assert "costs" in text
+
+
+def test_docs_figures_script_draws_every_figure(tmp_path):
+    proc = subprocess.run([sys.executable, str(ROOT / "docs" / "figures.py"), "--out",
+                           str(tmp_path)], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    for name in ("theory_lobes.png", "theory_furnace.png", "theory_gold.png"):
+        assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
