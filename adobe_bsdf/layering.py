@@ -121,8 +121,10 @@ class Layer(Wrapper):
         return (P[0] * self.top._pdf_t(wo, wi, throughput)
                 + P[1] * self.base._pdf_t(wo, wi, throughput))
 
-    def _eval_pdf_t(self, wo, wi, throughput):
-        scaled, E_top = self._scaled(wo)
+    def _eval_pdf_t(self, wo, wi, throughput, scaled_top=None):
+        """(f, pdf); ``scaled_top`` is ``_scaled(wo)`` where the caller has it already (the
+        top's albedo can be a quadrature per direction: an anisotropic coat)."""
+        scaled, E_top = self._scaled(wo) if scaled_top is None else scaled_top
         P = self._probabilities(wo, scaled, E_top)
         f_top, p_top = self.top._eval_pdf_t(wo, wi, throughput)
         f_base, p_base = self.base._eval_pdf_t(wo, wi, throughput)
@@ -143,7 +145,7 @@ class Layer(Wrapper):
         wi = np.where(top, s_top.wi, s_base.wi)
         flags = np.where(k == 0, s_top.flags, s_base.flags)
         delta = (flags & int(Flags.DELTA)) != 0
-        f, pdf = self._eval_pdf_t(wo, wi, throughput)
+        f, pdf = self._eval_pdf_t(wo, wi, throughput, (scaled, E_top))
         with np.errstate(divide="ignore", invalid="ignore"):
             weight = f * np.abs(wi[..., 2:3]) / pdf[..., None]
             own = np.where(top, self.coverage[..., None] * s_top.weight,
