@@ -94,6 +94,11 @@ class _Distribution:
         """Batch shape of the alphas."""
         return self.alpha_x.shape
 
+    @property
+    def alpha_max(self) -> np.ndarray:
+        """max(alpha_x, alpha_y): the lobe's widest extent, in slope."""
+        return np.maximum(self.alpha_x, self.alpha_y)
+
     _ARRAYS = ("alpha_x", "alpha_y", "smooth", "_ax", "_ay", "_pi_ax_ay")
 
     def take(self, shape: tuple, index) -> _Distribution:
@@ -490,6 +495,10 @@ class Mixture(_Distribution):
     def param_shape(self) -> tuple:
         return np.broadcast_shapes(self.narrow.param_shape, self.wide.param_shape,
                                    self.beta.shape)
+
+    @property
+    def alpha_max(self) -> np.ndarray:
+        return np.maximum(self.narrow.alpha_max, self.wide.alpha_max)
 
     def take(self, shape: tuple, index) -> Mixture:
         if self.param_shape == ():

@@ -13,7 +13,28 @@ from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
 from adobe_bsdf.microfacet import distribution
 from adobe_bsdf.registry import CheckCase, register
 
-__all__ = ["Dielectric", "interface_energy_scale"]
+__all__ = ["Dielectric", "interface_energy_scale", "passes_through", "MIN_TRANSMISSION_WIDTH"]
+
+#: narrowest transmitted lobe (radians) kept as a lobe: a rough interface whose refraction
+#: is narrower passes light straight through (``passes_through``, docs/conventions.md)
+MIN_TRANSMISSION_WIDTH = 1e-12
+
+
+def passes_through(eta, microfacets) -> np.ndarray:
+    """Where a dielectric of index ``eta`` over ``microfacets`` is a pass-through (a delta
+    from ``wo`` to ``-wo``): ``eta == 1`` (no interface), or a rough interface whose
+    transmitted lobe, about alpha_max |eta - 1| radians wide in its widest direction, is
+    narrower than ``MIN_TRANSMISSION_WIDTH``.
+
+    Such a lobe lies within 1e4 roundings of a float64 direction (~1e-16) of ``-wo`` in every
+    direction; at |eta - 1| of a few ulps the half vector of a sampled pair cancels to 0 and
+    ``eval`` overflows. The collapse drops the reflection, F <= ((eta - 1) / 2)^2 <=
+    (MIN_TRANSMISSION_WIDTH / (2 ALPHA_MIN))^2 = 2.5e-9 of the energy, and the lobe's width;
+    the transmitted energy of the rough model tends to the pass-through's linearly in
+    |eta - 1| (measured in tests/test_pass_through.py).
+    """
+    narrow = microfacets.alpha_max * np.abs(eta - 1.0) < MIN_TRANSMISSION_WIDTH
+    return (eta == 1.0) | (~microfacets.smooth & narrow)
 
 
 def _mirror_z(w, s):
@@ -56,7 +77,10 @@ class Dielectric(Lobe):
 
     Special cases: where both alphas are below ``ALPHA_MIN`` it is a smooth (delta)
     interface; where ``eta == 1`` there is no interface at all, and every sample passes
-    straight through (wi = -wo, weight 1, a delta), at any roughness.
+    straight through (wi = -wo, weight 1, a delta), at any roughness. A rough interface
+    whose transmitted lobe is too narrow for float64 (``passes_through``) passes straight
+    through too, with the energy of the lobe it stands for: the limit G2(wo, -wo) / G1(wo)
+    of the rough model as eta -> 1 (``_pass_energy``).
 
     Parameters
     ----------
@@ -88,6 +112,8 @@ class Dielectric(Lobe):
     def _init(self, eta, microfacets):
         self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
         self.distribution = microfacets
+        #: where the interface is a pass-through (``passes_through``)
+        self.passes = passes_through(self.eta, microfacets)
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}.over({self.eta!r}, {self.distribution!r})"
@@ -121,7 +147,7 @@ class Dielectric(Lobe):
         f = np.zeros(n) if want_f else None
         pdf = np.zeros(n) if want_pdf else None
         scalar = self._param_shape() == ()
-        if not (scalar and (self.eta == 1.0 or self.distribution.smooth)):
+        if not (scalar and (self.passes or self.distribution.smooth)):
             oz, iz = wo[:, 2], wi[:, 2]
             o_up, i_up, i_down = oz > 0.0, iz > 0.0, iz < 0.0
             if o_up.all():  # (as in a renderer's batches) no pair needs the other side
@@ -163,8 +189,9 @@ class Dielectric(Lobe):
         else:
             value, P = self._refract(d, eta, side, ox, oy, zo, ix, iy, zi, s_o,
                                      f is not None, pdf is not None)
-        if d.smooth.ndim or self.eta.ndim:  # a texture: smooth or index-matched elements
-            off = d.smooth | (eta == 1.0)
+        if d.smooth.ndim or self.eta.ndim:  # a texture: smooth or pass-through elements
+            off = d.smooth | (self.passes if self.passes.ndim == 0 else np.broadcast_to(
+                self.passes, batch).reshape(-1)[index])
             value = [None if v is None else np.where(off, 0.0, v) for v in value]
         if f is not None:
             f[index] = value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi))
@@ -270,14 +297,14 @@ class Dielectric(Lobe):
         weight = np.where(choose_r, g, g / (eta * eta))  # radiance: eta_o^2 / eta_i^2
         lobe = np.where(smooth, int(Flags.DELTA), int(Flags.GLOSSY))
         flags = lobe | np.where(choose_r, int(Flags.REFLECTION), int(Flags.TRANSMISSION))
-        # index-matched boundary: no interface, the light passes straight through
-        matched = eta == 1.0
-        if np.any(matched):
-            ix, iy, iz = (np.where(matched, -c, i) for c, i in ((ox, ix), (oy, iy), (zo, iz)))
-            ok = np.where(matched, zo != 0.0, ok)
-            weight = np.where(matched, 1.0, weight)
-            pdf = np.where(matched, 1.0, pdf)
-            flags = np.where(matched, int(Flags.TRANSMISSION | Flags.DELTA), flags)
+        # a pass-through: the light goes straight on, with the energy of the lobe
+        passes = np.broadcast_to(self.passes, shape)
+        if np.any(passes):
+            ix, iy, iz = (np.where(passes, -c, i) for c, i in ((ox, ix), (oy, iy), (zo, iz)))
+            ok = np.where(passes, zo != 0.0, ok)
+            weight = np.where(passes, self._pass_energy(ox, oy, zo) / (eta * eta), weight)
+            pdf = np.where(passes, 1.0, pdf)
+            flags = np.where(passes, int(Flags.TRANSMISSION | Flags.DELTA), flags)
         ok = ok & (pdf > 0.0)
         wi = np.stack(np.broadcast_arrays(ix, iy, np.where(below, -iz, iz)), axis=-1)
         weight = np.where(ok, weight, 0.0)
@@ -288,15 +315,28 @@ class Dielectric(Lobe):
             flags=np.where(ok, flags, int(Flags.NONE)),
         )
 
+    def _pass_energy(self, ox, oy, zo):
+        """Energy a pass-through carries from ``wo`` (``zo`` = |cos o| > 0): 1 where
+        ``eta == 1`` or smooth, else the rough transmission's limit as eta -> 1, where every
+        refracted direction tends to -wo and 1 - F to 1: G2(wo, -wo) / G1(wo) (the sampling
+        weight; (1 + Lambda) / (1 + 2 Lambda) for height-correlated masking, G1 separable)."""
+        d = self.distribution
+        s_o = d.projected(ox, oy, zo)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            limit = d.G2_over_G1_of(zo, s_o, zo, s_o)
+        return np.where((self.eta == 1.0) | d.smooth, 1.0, limit)
+
     def _delta_albedo(self, wo):
-        """1 where the interface is smooth or index-matched (and ``wo`` not grazing), else 0.
+        """The delta branches' energy (0 where ``wo`` is grazing): 1 where the interface is
+        smooth, the pass-through's energy (``_pass_energy``) where it passes through, else 0.
 
         A smooth interface reflects F and transmits (1 - F) of the energy (radiance
         (eta_o/eta_i)^2 (1 - F) times the energy factor (eta_i/eta_o)^2), F + (1 - F) = 1 (F = 1
-        under total internal reflection); an index-matched one passes everything through.
+        under total internal reflection).
         """
-        delta = (self.distribution.smooth | (self.eta == 1.0)) & (wo[..., 2] != 0.0)
-        return np.where(delta[..., None], 1.0, np.zeros(wo.shape[:-1] + (3,)))
+        delta = (self.distribution.smooth | self.passes) & (wo[..., 2] != 0.0)
+        energy = self._pass_energy(wo[..., 0], wo[..., 1], np.abs(wo[..., 2]))
+        return np.where(delta, energy, 0.0)[..., None] * np.ones(3)
 
 
 def interface_energy_scale(eta, wo, wi):

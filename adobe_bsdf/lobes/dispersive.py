@@ -199,25 +199,36 @@ class Dispersive(Lobe):
         return finished_sample(wi, weight, pdf, flags)
 
     def _delta_mixture(self, wo, k, flags, p):
-        """(weight, probability) of delta samples (smooth or index-matched interface) of
-        channel ``k``: the directions that several channels share are summed over them.
+        """(weight, probability) of delta samples of channel ``k`` (a smooth interface, or a
+        channel that passes straight through, ``dielectric.passes_through``): the
+        directions that several channels share are summed over them.
 
         Reflection: every channel's mirror direction is the same, probability
         sum_c p_c F_c, weight F_c / that. Refraction: shared by the channels with the index
-        of ``k``, probability sum_c p_c (1 - F_c) [eta_c = eta_k], weight
-        [eta_c = eta_k] (1 - F_c) / eta_c'^2 / that (radiance: eta_c' = eta_c from the side
-        of ``wo``). F_c = ``fresnel.dielectric`` at cos theta_o (1 under total internal
-        reflection).
+        of ``k`` (and by every pass-through channel if ``k`` passes through), probability
+        sum_c p_c P_c over those, weight T_c / eta_c'^2 / that (radiance: eta_c' = eta_c
+        from the side of ``wo``), where a smooth channel has P_c = T_c = 1 - F_c and a
+        pass-through P_c = 1, T_c its energy (``Dielectric._pass_energy``) and F_c = 0.
+        F_c = ``fresnel.dielectric`` at cos theta_o (1 under total internal reflection).
         """
         below = (wo[..., 2] < 0.0)[..., None]
         eta = np.where(below, 1.0 / self.eta, self.eta)  # far side / wo's side, per channel
+        passes = np.stack(np.broadcast_arrays(*(ch.passes for ch in self.channels)), -1)
         F = fresnel.dielectric(np.abs(wo[..., 2])[..., None], eta)
-        F = np.where(eta == 1.0, 0.0, F)  # an index-matched boundary does not reflect
+        F = np.where(passes, 0.0, F)
+        zo = np.abs(wo[..., 2])
+        T = np.where(passes, np.stack([ch._pass_energy(wo[..., 0], wo[..., 1], zo)
+                                       for ch in self.channels], -1), 1.0 - F)
+        P = np.where(passes, 1.0, 1.0 - F)
         reflected = ((flags & int(Flags.REFLECTION)) != 0)[..., None]
-        eta_k = np.take_along_axis(np.broadcast_to(eta, F.shape), k[..., None], -1)
-        share = np.where(reflected, F, np.where(eta == eta_k, 1.0 - F, 0.0))
-        value = np.where(reflected, F, share / (eta * eta))
-        mass = (p * share).sum(axis=-1)
+        shape = np.broadcast_shapes(F.shape, k.shape + (1,))
+
+        def of_k(x):
+            return np.take_along_axis(np.broadcast_to(x, shape), k[..., None], -1)
+
+        shared = (eta == of_k(eta)) | (passes & of_k(passes))
+        value = np.where(reflected, F, np.where(shared, T, 0.0) / (eta * eta))
+        mass = (p * np.where(reflected, F, np.where(shared, P, 0.0))).sum(axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):
             return value / mass[..., None], mass
 
