@@ -15,6 +15,7 @@ from adobe_bsdf import (
     materials,
     media,
     microfacet,
+    paper_figures,
     plot,
     quadrature,
     registry,
@@ -27,6 +28,7 @@ from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
 
 __all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "layering", "lobes", "materials",
-           "media", "microfacet", "plot", "quadrature", "registry", "render", "spectral", "tables",
+           "media", "microfacet", "paper_figures", "plot", "quadrature", "registry", "render",
+           "spectral", "tables",
            "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
 __version__ = "0.1.0"

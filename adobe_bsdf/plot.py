@@ -23,6 +23,8 @@ Public API
     reflectance of Fresnel models against cos theta
 ``metal_fresnel(name, ax, n, illuminant)``
     a measured metal: exact spectral Fresnel vs Schlick, F82-tint and Hoffman's F82
+``sphere_grid(scene, size, spp, seed, exposure, scale)``
+    rendered spheres side by side: a ``paper_figures.Scene`` or a dict of label -> lobe
 
 Colour: ``channel`` selects what is drawn of an RGB value: None (the three channels R, G, B,
 drawn red, green and blue), ``"luminance"`` (Rec. 709, ``adobe_bsdf.bsdf.luminance``) or a
@@ -48,7 +50,7 @@ from adobe_bsdf.sampling import concentric_disk
 
 __all__ = ["QUANTITIES", "PROJECTIONS", "polar_slice", "hemisphere_image",
            "hemisphere_directions", "chi2_histograms", "albedo_curves", "furnace_curves",
-           "fresnel_curves", "metal_fresnel"]
+           "fresnel_curves", "metal_fresnel", "sphere_grid"]
 
 #: what a lobe plot shows: f, the sampling density, or f |cos theta_i|
 QUANTITIES = ("eval", "pdf", "eval_cos")
@@ -446,3 +448,48 @@ def metal_fresnel(name: str, ax=None, n: int = 256, illuminant: str = "D65"):
     ax.set_title(f"{name}: F0 = {np.array2string(fit.f0, precision=3)}, "
                  f"tint = {np.array2string(fit.tint, precision=3)}")
     return ax
+
+
+# -- rendered spheres -------------------------------------------------------------------------
+def sphere_grid(scene, size: int = 96, spp: int = 32, seed: int = 0, exposure: float = 1.0,
+                scale: float = 1.75, env: str = "sky", ncols: int | None = None):
+    """Spheres rendered by ``render.sphere`` side by side, one labelled panel each.
+
+    Parameters
+    ----------
+    scene : paper_figures.Scene or dict of label -> Lobe
+        A scene brings its own environment, columns, title and zoom (``env`` and ``ncols``
+        are then ignored; ``size`` and ``scale`` are multiplied by the zoom).
+    size, spp, seed : passed to ``render.sphere`` (every sphere with the same seed).
+    exposure : float   radiance multiplier before ``render.to_srgb8``.
+    scale : float      inches per panel.
+    env : str          environment for a dict of lobes.
+    ncols : int        panels per row for a dict of lobes (default: all in one row).
+
+    Returns
+    -------
+    matplotlib Figure
+    """
+    from adobe_bsdf import render  # the renderer imports nothing of plot's
+
+    materials, title = scene, None
+    if hasattr(scene, "materials"):
+        materials, env, ncols = scene.materials, scene.env, scene.ncols
+        title = f"{scene.source}:\n{scene.title}" if ncols < 4 else f"{scene.source}: {scene.title}"
+        size, scale = max(1, round(size * scene.zoom)), scale * scene.zoom
+    labels = list(materials)
+    ncols = ncols or len(labels)
+    nrows = -(-len(labels) // ncols)
+    fig, axes = _pyplot().subplots(nrows, ncols, figsize=(scale * ncols, (scale + 0.15) * nrows),
+                                   squeeze=False)
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for ax, label in zip(axes.flat, labels, strict=False):
+        image = render.sphere(materials[label], env=env, size=size, spp=spp, seed=seed,
+                              progress=False)
+        ax.imshow(render.to_srgb8(exposure * image))
+        ax.set_title(label, fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig

@@ -7,6 +7,7 @@ Public API
 ``Uniform(radiance)``, ``Sun(direction, irradiance, ambient)``, ``EquirectMap(image)``
     environments: L(w) for directions w pointing away from the scene, with sampling.
 ``sky(height=64)``     a synthetic equirectangular sky (made in code, nothing downloaded).
+``studio(height=128)``  a synthetic studio: grey room, vertical light strips (made in code).
 ``to_srgb8(image)``    linear radiance to 8-bit sRGB; ``write_png(path, image)`` saves it.
 
 The camera is orthographic, looking down -z at the unit sphere; y is up in the image. Each
@@ -31,7 +32,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, Lobe, luminance
 from adobe_bsdf.frame import Frame, normalize
 
-__all__ = ["sphere", "Uniform", "Sun", "EquirectMap", "sky", "to_srgb8", "write_png"]
+__all__ = ["sphere", "Uniform", "Sun", "EquirectMap", "sky", "studio", "to_srgb8", "write_png"]
 
 
 class Uniform:
@@ -138,6 +139,21 @@ def sky(height: int = 64, sun=(0.5, 0.6, 0.62), sun_radiance: float = 400.0) -> 
     return np.where(disk[..., None], sun_radiance * np.array([1.0, 0.95, 0.85]), image)
 
 
+def studio(height: int = 128, bars: int = 4, radiance: float = 1.5) -> np.ndarray:
+    """A synthetic equirectangular studio ``(height, 2 height, 3)``: a grey room (lighter
+    above the horizon) with ``bars`` tall vertical light strips of ``radiance`` spaced
+    evenly in azimuth; sharp edges that show refraction and dispersion. Made in code."""
+    height = _params.integer("height", height, 4)
+    bars = _params.integer("bars", bars, 1)
+    h, w = height, 2 * height
+    theta = (np.arange(h) + 0.5) / h * np.pi
+    phi = (np.arange(w) + 0.5) / w * 2.0 * np.pi
+    y, P = np.meshgrid(np.cos(theta), phi, indexing="ij")
+    strip = (np.mod(P * bars / (2.0 * np.pi) + 0.1, 1.0) < 0.2) & (np.abs(y) < 0.7)
+    room = np.where(y >= 0.0, 0.3 + 0.2 * y, 0.15)
+    return np.repeat(np.where(strip, radiance, room)[..., None], 3, axis=-1)
+
+
 def _environment(env, light):
     if isinstance(env, (Uniform, Sun, EquirectMap)):
         return env
@@ -148,8 +164,10 @@ def _environment(env, light):
             return Sun() if light is None else Sun(*light)
         if env == "sky":
             return EquirectMap(sky())
-        raise ValueError(f"env = {env!r}: allowed 'furnace', 'sun', 'sky', an image (h, w, 3) "
-                         "or an environment object")
+        if env == "studio":
+            return EquirectMap(studio())
+        raise ValueError(f"env = {env!r}: allowed 'furnace', 'sun', 'sky', 'studio', an image "
+                         "(h, w, 3) or an environment object")
     return EquirectMap(env)
 
 
@@ -224,9 +242,10 @@ def sphere(bsdf: Lobe, env="furnace", size: int = 128, spp: int = 64, seed: int 
     Parameters
     ----------
     bsdf : Lobe
-    env : "furnace", "sun", "sky", ndarray (h, w, 3) or an environment object
+    env : "furnace", "sun", "sky", "studio", ndarray (h, w, 3) or an environment object
         "furnace": uniform radiance 1; "sun": ``Sun()`` (or ``Sun(*light)``) plus ambient;
-        "sky": ``EquirectMap(sky())``; an array: an equirectangular radiance map.
+        "sky": ``EquirectMap(sky())``; "studio": ``EquirectMap(studio())``; an array: an
+        equirectangular radiance map.
     size : int        pixels per side, in [1, inf).
     spp : int         paths per pixel, in [1, inf).
     seed : int        seed of ``numpy.random.default_rng``.

@@ -1,6 +1,6 @@
 """Write the theory pages' figures into ``docs/figures/`` (run from the repository root).
 
-    python docs/figures.py [--out DIR]
+    python docs/figures.py [--out DIR] [--size N] [--spp S]
 
 Every figure is drawn by ``adobe_bsdf.plot`` from the library itself:
 
@@ -9,7 +9,10 @@ Every figure is drawn by ``adobe_bsdf.plot`` from the library itself:
 * ``theory_furnace.png``   white-furnace curves E(mu) - 1: GGX alone, with Kulla–Conty, and
                            the white ASM dielectric (seed 000 Fig. 2);
 * ``theory_gold.png``      gold's exact spectral Fresnel against Schlick, F82 and F82-tint
-                           (seed 000 §2).
+                           (seed 000 §2);
+* ``paper_<scene>.png``    the papers' sphere figures, one per ``adobe_bsdf.paper_figures``
+                           scene, rendered by ``plot.sphere_grid`` at ``--size`` pixels and
+                           ``--spp`` paths per pixel (96 and 64 by default).
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import adobe_bsdf as ab  # noqa: E402
+from adobe_bsdf import paper_figures  # noqa: E402
 
 FIGURES = Path(__file__).resolve().parent / "figures"
 THETA_O = 0.6  # radians, for the slices
@@ -66,14 +70,24 @@ def gold_figure(path: Path) -> None:
     plt.close(fig)
 
 
+def scene_figure(path: Path, name: str, size: int, spp: int) -> None:
+    fig = ab.plot.sphere_grid(paper_figures.SCENES[name](), size=size, spp=spp)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=FIGURES)
+    parser.add_argument("--size", type=int, default=96)
+    parser.add_argument("--spp", type=int, default=64)
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     lobes_figure(args.out / "theory_lobes.png")
     furnace_figure(args.out / "theory_furnace.png")
     gold_figure(args.out / "theory_gold.png")
+    for name in paper_figures.SCENES:
+        scene_figure(args.out / f"paper_{name}.png", name, args.size, args.spp)
     print(args.out)
     return 0
 

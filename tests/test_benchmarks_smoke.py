@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from adobe_bsdf import paper_figures
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -221,8 +223,9 @@ def test_asm_cost_lists_every_material(tmp_path):
 
 def test_docs_figures_script_draws_every_figure(tmp_path):
     proc = subprocess.run([sys.executable, str(ROOT / "docs" / "figures.py"), "--out",
-                           str(tmp_path)], cwd=ROOT, capture_output=True, text=True,
-                          timeout=300)
+                           str(tmp_path), "--size", "12", "--spp", "1"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-4000:]
-    for name in ("theory_lobes.png", "theory_furnace.png", "theory_gold.png"):
+    scenes = [f"paper_{name}.png" for name in paper_figures.SCENES]
+    for name in ("theory_lobes.png", "theory_furnace.png", "theory_gold.png", *scenes):
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"

@@ -78,11 +78,25 @@ class _EnvironmentAsLobe:
         return self.env.pdf(wi)
 
 
-@pytest.mark.parametrize("env", [render.Uniform(1.0), render.EquirectMap(render.sky(16))])
+ENVIRONMENTS = [render.Uniform(1.0), render.EquirectMap(render.sky(16)),
+                render.EquirectMap(render.studio(16))]
+
+
+@pytest.mark.parametrize("env", ENVIRONMENTS)
 def test_environment_sampling_matches_its_pdf(env):
     result = chi2_test(_EnvironmentAsLobe(env), np.array([0.0, 0.0, 1.0]), n_samples=300_000,
-                       n_theta=32, n_phi=64, alpha=CHI2_ALPHA, n_tests=2)
+                       n_theta=32, n_phi=64, alpha=CHI2_ALPHA, n_tests=len(ENVIRONMENTS))
     assert result.passed, str(result)
+
+
+def test_studio_has_its_strips():
+    image = render.studio(32, bars=4, radiance=1.5)
+    assert image.shape == (32, 64, 3)
+    lit = image[16, :, 0] == 1.5  # along the horizon
+    starts = lit & ~np.roll(lit, 1)
+    assert starts.sum() == 4  # four strips (runs of lit pixels, around the circle)
+    assert abs(lit.mean() - 0.2) < 1.0 / 16  # each 0.2 of its period, to a pixel
+    np.testing.assert_array_equal(image[0], 0.3 + 0.2 * np.cos(np.pi / 64))  # above the strips
 
 
 def test_equirect_lookup_and_background():
@@ -127,7 +141,7 @@ def test_srgb_encoding_and_png(tmp_path):
 
 def test_bad_input_names_the_parameter():
     with pytest.raises(ValueError, match="env"):
-        render.sphere(ab.lobes.Lambert(), "studio")
+        render.sphere(ab.lobes.Lambert(), "garage")
     with pytest.raises(ValueError, match="bsdf"):
         render.sphere("lambert")
     with pytest.raises(ValueError, match="spp"):
