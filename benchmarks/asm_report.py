@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from adobe_bsdf import dispersion, fresnel, lobes, media, spectral
+from adobe_bsdf import dispersion, fresnel, lobes, media, paper_figures, spectral
 from adobe_bsdf.materials import presets
 from benchmarks import generated_by
 
@@ -237,28 +237,20 @@ def markdown_dispersion(rows, noise):
     return out
 
 
-COAT_COLOR = (0.9, 0.6, 0.3)
+COAT_COLOR, COAT_IOR = paper_figures.FIG18_COAT, paper_figures.FIG18_COAT_IOR
 COAT_COSINES = (1.0, 0.7, 0.4, 0.2, 0.05)
 
 
 def measure_coat_tint():
     """Fig. 18: albedo (quadrature) of a coat of colour ``COAT_COLOR`` (ior 1.6, roughness
     0.1) over a white diffuse (roughness 0.5) and over a white rough glass (roughness 0.3,
-    translucency 1), uniform tint sqrt(colour)^2 against the view-dependent one."""
-    from functools import partial
-
-    from adobe_bsdf.layering import Layer
-    from adobe_bsdf.materials import AdobeStandardMaterial
-
+    translucency 1), uniform tint sqrt(colour)^2 against the view-dependent one
+    (``paper_figures.coat_tint_pair``, the scene of Fig. 18)."""
     wo = np.stack([[np.sqrt(1 - c * c), 0.0, c] for c in COAT_COSINES])
     rows = []
     for base_name, params in (("white diffuse", {"base_color": 1.0, "roughness": 0.5}),
                               ("white rough glass", {"translucency": 1.0, "roughness": 0.3})):
-        coated = AdobeStandardMaterial(coat_opacity=1.0, coat_ior=1.6, coat_roughness=0.1,
-                                       coat_color=COAT_COLOR, **params)
-        uniform = Layer(coated.lobes["coat"], coated.bsdf.base, 1.0,
-                        partial(lobes.coat_transmittance, COAT_COLOR, 1.6,
-                                view_dependent=False))
+        uniform, coated = paper_figures.coat_tint_pair(COAT_COLOR, COAT_IOR, **params)
         rows.append((base_name, uniform.albedo(wo, tol=1e-6), coated.albedo(wo, tol=1e-6)))
     return rows
 
