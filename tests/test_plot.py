@@ -270,6 +270,35 @@ def test_metal_fresnel(metal):
 
 
 # -- bad input ------------------------------------------------------------------------------
+def test_sphere_grid_shows_each_render_with_its_label():
+    """Each panel is ``to_srgb8`` of ``render.sphere`` with the same seed; a scene brings its
+    title, columns and zoom."""
+    lobes = {"grey": ab.lobes.Lambert(0.5), "white": ab.lobes.Lambert(1.0),
+             "metal": METAL}
+    fig = plot.sphere_grid(lobes, size=8, spp=2, seed=3, env="sun", ncols=2)
+    shown = [ax for ax in fig.axes if ax.images]
+    assert [ax.get_title() for ax in shown] == list(lobes)
+    assert len(fig.axes) == 4  # two rows of two, the empty panel hidden
+    for ax, lobe in zip(shown, lobes.values(), strict=True):
+        expected = ab.render.to_srgb8(ab.render.sphere(lobe, "sun", size=8, spp=2, seed=3,
+                                                       progress=False))
+        np.testing.assert_array_equal(ax.images[0].get_array(), expected)
+    scene = ab.paper_figures.Scene("two greys", "seed 000 Fig. 0", "furnace", 2,
+                                   {"a": ab.lobes.Lambert(0.5), "b": ab.lobes.Lambert(0.25)},
+                                   zoom=1.5)
+    fig = plot.sphere_grid(scene, size=8, spp=1)
+    assert "seed 000 Fig. 0" in fig.texts[0].get_text()
+    assert fig.axes[0].images[0].get_array().shape == (12, 12, 3)
+
+
+def test_every_paper_scene_builds():
+    for name, make in ab.paper_figures.SCENES.items():
+        scene = make()
+        assert scene.source.startswith("seed 00"), name
+        assert scene.env in ("furnace", "sun", "sky", "studio")
+        assert all(isinstance(m, ab.Lobe) for m in scene.materials.values())
+
+
 @pytest.mark.parametrize("call, name", [
     (lambda: plot.polar_slice(METAL, 0.3, quantity="brdf"), "quantity"),
     (lambda: plot.hemisphere_image(METAL, WO, quantity="radiance"), "quantity"),
