@@ -224,7 +224,7 @@ def test_dielectric_k_scalar_paths_match_the_array_path(eta):
 
 
 # --- Gulbrandsen's artist-friendly conductor parameters ------------------------------------
-from hypothesis import given  # noqa: E402
+from hypothesis import assume, given  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 _R = st.floats(0.0, 0.99)
@@ -249,9 +249,15 @@ def test_gulbrandsen_round_trip(r, g):
 @given(r=_R, g=st.floats(0.05, 1.0))
 def test_gulbrandsen_k_equals_the_textbook_form(r, g):
     """The cancellation-free k^2 equals (r (eta + 1)^2 - (eta - 1)^2) / (1 - r) where the
-    latter is well conditioned (g away from 0)."""
+    latter is well conditioned: g away from 0, and its numerator's rounding (a few eps times
+    the magnitudes of its terms; near r = 0, eta - 1 itself is at rounding level) below 1e-9
+    of its value."""
     eta, k = ab.fresnel.gulbrandsen_to_ior(r, g)
-    textbook = np.sqrt((r * (eta + 1.0) ** 2 - (eta - 1.0) ** 2) / (1.0 - r))
+    numerator = r * (eta + 1.0) ** 2 - (eta - 1.0) ** 2
+    rounding = 4.0 * np.finfo(float).eps * (r * (eta + 1.0) ** 2 + (eta - 1.0) ** 2
+                                            + 2.0 * eta * abs(eta - 1.0))
+    assume(numerator > 1e9 * rounding)
+    textbook = np.sqrt(numerator / (1.0 - r))
     np.testing.assert_allclose(k, textbook, rtol=1e-9, atol=1e-12)
 
 
