@@ -296,7 +296,7 @@ def test_extremes_are_finite():
                      [0.0, 0.0, 1.0], [-np.sqrt(1 - 1e-24), 0.0, 1e-12], [0.0, 0.0, -1.0]])
     wo = np.concatenate([wo, edge, edge, edge])
     wi = np.concatenate([wi, edge, edge[::-1], np.roll(edge, 1, axis=0)])
-    for r in (0.0, 1e-300, 1e-12, 1e-6, 1.0):
+    for r in (0.0, 5e-324, 2.2e-311, 1e-300, 1e-160, 1e-12, 1e-6, 1.0):  # subnormals included
         for color, c in ((0.0, 2.0), (1.0, 2.0), (1.0, 0.0)):
             lobe = Sheen(color, r, c)
             s = lobe.sample(wo, rng.random((len(wo), 3)))

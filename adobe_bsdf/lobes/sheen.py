@@ -202,8 +202,9 @@ class Sheen(SupportLobe):
         r = self.roughness
         mu = np.clip(wo[..., 2], 0.0, 1.0)
         small = r < R_SIMILAR
-        mu = np.where(small, np.minimum(mu * R_SIMILAR / np.where(small & (r > 0.0), r, 1.0),
-                                        1.0), mu)
+        with np.errstate(over="ignore"):  # r subnormal: mu R / r is inf, its minimum 1 exact
+            mu = np.where(small, np.minimum(
+                mu * R_SIMILAR / np.where(small & (r > 0.0), r, 1.0), 1.0), mu)
         E, error = lookup("sheen_albedo", mu, with_error, roughness=np.maximum(r, R_SIMILAR))
         live = (wo[..., 2] > 0.0) & (r > 0.0)
         return np.where(live, E, 0.0), None if error is None else np.where(live, error, 0.0)
