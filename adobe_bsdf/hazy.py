@@ -56,7 +56,7 @@ def wide_roughness(alpha_x, alpha_y, extent_x, extent_y=None):
     ay = _params.real("alpha_y", alpha_y, 0.0, np.inf)
     lx = _params.real("haze_extent_x", extent_x, 0.0, np.inf)
     ly = lx if extent_y is None else _params.real("haze_extent_y", extent_y, 0.0, np.inf)
-    unit = np.sqrt(ax * ay)
+    unit = np.sqrt(ax) * np.sqrt(ay)  # not sqrt(ax ay): that underflows for tiny alphas
     return ax + lx * unit, ay + ly * unit
 
 
@@ -78,7 +78,7 @@ def peak_ratio(alpha_n, alpha_w, model: str = "ggx"):
     ny = _params.real("alpha_n_y", alpha_n[1], 0.0, np.inf, lo_open=True)
     wx = _params.real("alpha_w_x", alpha_w[0], 0.0, np.inf, lo_open=True)
     wy = _params.real("alpha_w_y", alpha_w[1], 0.0, np.inf, lo_open=True)
-    return (nx * ny) / (wx * wy)
+    return (nx / wx) * (ny / wy)  # each ratio in (0, 1]: no underflow for tiny alphas
 
 
 def _ratio_and_haziness(r_c, p, haziness):

@@ -103,6 +103,20 @@ def test_wide_roughness_eq8():
                                (ax + lx * 0.02, ay + ly * 0.02), rtol=EXACT)
 
 
+@pytest.mark.parametrize("alpha", [0.01, 1e-100, 1e-300, 2.2e-311, 5e-324])
+def test_peak_ratio_is_scale_free_down_to_subnormal_alphas(alpha):
+    """Eq. 8 scales with alpha_n, so p = 1 / (1 + lambda_h)^2 (isotropic) at every scale; a
+    hazy lobe with such an alpha is finite (hypothesis-style extremes, RuntimeWarnings are
+    errors)."""
+    alpha_w = hazy.wide_roughness(alpha, alpha, 7.0)
+    np.testing.assert_allclose(hazy.peak_ratio((alpha, alpha), alpha_w), 1.0 / 64.0,
+                               rtol=EXACT)
+    lobe = hazy.HazyGloss(0.5, 0.5, 7.0, alpha)
+    wo = np.array([0.6, 0.0, 0.8])
+    s = lobe.sample(np.broadcast_to(wo, (64, 3)), np.random.default_rng(0).random((64, 3)))
+    assert np.all(np.isfinite(s.weight)) and np.all(np.isfinite(s.pdf))
+
+
 @pytest.mark.parametrize("alpha_n, alpha_w", [((0.01, 0.01), (0.08, 0.08)),
                                               ((0.05, 0.2), (0.3, 0.25))])
 @pytest.mark.parametrize("model", hazy.PEAK_MODELS)
