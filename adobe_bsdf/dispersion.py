@@ -52,9 +52,9 @@ def abbe_to_dispersion(abbe):
 
 def dispersion_to_abbe(dispersion):
     """V_d = 20 / Dispersion (seed 000 eq. 13); ``dispersion`` in [0, inf), 0 -> inf (no
-    dispersion)."""
+    dispersion), as for a subnormal dispersion, where 20 / d overflows."""
     d = _params.real("dispersion", dispersion, 0.0, np.inf)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):
         return 20.0 / d
 
 

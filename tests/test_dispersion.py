@@ -22,6 +22,7 @@ def test_eqs_12_and_13_are_inverse():
     v = np.array([20.0, 36.37, 90.9, 1e6])
     np.testing.assert_allclose(D.dispersion_to_abbe(D.abbe_to_dispersion(v)), v, rtol=EXACT)
     assert D.dispersion_to_abbe(0.0) == np.inf
+    assert D.dispersion_to_abbe(5e-324) == np.inf  # overflows to the same limit, no warning
     assert D.dispersion_to_abbe(1.0) == 20.0  # Dispersion 1: the most dispersive real glass
 
 
