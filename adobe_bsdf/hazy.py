@@ -307,10 +307,9 @@ class HazyDielectric(Sum):
             raise ValueError(f"haziness = {haziness!r} with core_reflectivity = "
                              f"{core_reflectivity!r} maps to reflectivity 1 (an infinite "
                              "index); allowed: haziness < 1 where r_c >= p")
-        #: n_below / n_above of the interface (``Dielectric.eta``)
-        self.eta = m.eta[..., 0]
+        eta = m.eta[..., 0]  # n_below / n_above, ``eta`` of the lobes (``Sum.eta``)
         components, weights = _narrow_and_wide(
-            m, model, compound_masking, lambda d: Dielectric.over(self.eta, d))
+            m, model, compound_masking, lambda d: Dielectric.over(eta, d))
         super().__init__(*components, weights=weights)
 
 

@@ -44,7 +44,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from adobe_bsdf import _params, fresnel, spectral
+from adobe_bsdf import _params, fresnel, render, spectral
 from adobe_bsdf.bsdf import Lobe, luminance
 from adobe_bsdf.sampling import concentric_disk
 
@@ -470,8 +470,6 @@ def sphere_grid(scene, size: int = 96, spp: int = 32, seed: int = 0, exposure: f
     -------
     matplotlib Figure
     """
-    from adobe_bsdf import render  # the renderer imports nothing of plot's
-
     materials, title = scene, None
     if hasattr(scene, "materials"):
         materials, env, ncols = scene.materials, scene.env, scene.ncols

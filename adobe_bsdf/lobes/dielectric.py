@@ -335,7 +335,8 @@ class Dielectric(Lobe):
         under total internal reflection).
         """
         delta = (self.distribution.smooth | self.passes) & (wo[..., 2] != 0.0)
-        energy = self._pass_energy(wo[..., 0], wo[..., 1], np.abs(wo[..., 2]))
+        energy = (self._pass_energy(wo[..., 0], wo[..., 1], np.abs(wo[..., 2]))
+                  if np.any(self.passes) else 1.0)  # else only smooth elements: 1
         return np.where(delta, energy, 0.0)[..., None] * np.ones(3)
 
 

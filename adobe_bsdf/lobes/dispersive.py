@@ -216,9 +216,11 @@ class Dispersive(Lobe):
         passes = np.stack(np.broadcast_arrays(*(ch.passes for ch in self.channels)), -1)
         F = fresnel.dielectric(np.abs(wo[..., 2])[..., None], eta)
         F = np.where(passes, 0.0, F)
-        zo = np.abs(wo[..., 2])
-        T = np.where(passes, np.stack([ch._pass_energy(wo[..., 0], wo[..., 1], zo)
-                                       for ch in self.channels], -1), 1.0 - F)
+        T = 1.0 - F
+        if np.any(passes):
+            zo = np.abs(wo[..., 2])
+            T = np.where(passes, np.stack([ch._pass_energy(wo[..., 0], wo[..., 1], zo)
+                                           for ch in self.channels], -1), T)
         P = np.where(passes, 1.0, 1.0 - F)
         reflected = ((flags & int(Flags.REFLECTION)) != 0)[..., None]
         shape = np.broadcast_shapes(F.shape, k.shape + (1,))

@@ -160,7 +160,6 @@ class Sheen(SupportLobe):
             D = self._D(wo, wi)
             return self._scale * self._f(wo, wi, up, D)[..., None], self._p(wo, up, D)
 
-
     # -- sampling ---------------------------------------------------------------------------
     def _sample(self, wo, u):
         r = self.roughness

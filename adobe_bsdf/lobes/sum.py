@@ -152,15 +152,9 @@ class Sum(Lobe):
 
     @property
     def eta(self):
-        """The shared interface's index (for generalized reciprocity): as set by a subclass,
-        else the transmitting component's, else None."""
-        if "_eta" in self.__dict__:
-            return self._eta
+        """The shared interface's index (for generalized reciprocity): the transmitting
+        component's, else None."""
         return getattr(self._interface(), "eta", None)
-
-    @eta.setter
-    def eta(self, value):
-        self._eta = value
 
     @property
     def eta_per_channel(self) -> bool:
