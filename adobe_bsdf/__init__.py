@@ -1,16 +1,21 @@
-"""adobe_bsdf: a pure-NumPy reference implementation of the Adobe Standard Material,
-the generalized F82 Fresnel model, hazy gloss and OpenPBR Surface.
+"""adobe_bsdf: a pure-NumPy reference implementation of the Adobe Standard Material, the
+generalized F82 Fresnel model and hazy gloss; OpenPBR Surface is planned.
 
+Layers, each importing only those below it (``docs/architecture.md``): core maths
+(``fresnel``, ``microfacet``, ``frame``, ``spectral``, ``haze``, ...) ← ``tables`` and
+``quadrature`` ← ``bsdf`` (the protocol) ← ``composition`` ← ``lobes`` ← ``materials``;
+``validation``, ``render``, ``plot``, ``paper_figures`` and the command line beside them.
 The validation toolkit is imported on its own: ``import adobe_bsdf.validation``.
 """
 
 from adobe_bsdf import (
+    composition,
     config,
     dispersion,
     frame,
     fresnel,
+    haze,
     hazy,
-    layering,
     lobes,
     materials,
     media,
@@ -18,17 +23,16 @@ from adobe_bsdf import (
     paper_figures,
     plot,
     quadrature,
-    registry,
     render,
     spectral,
     tables,
 )
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import Frame
-from adobe_bsdf.microfacet import GGX, Beckmann, asm_alpha
+from adobe_bsdf.microfacet import GGX, Beckmann
 
-__all__ = ["config", "dispersion", "frame", "fresnel", "hazy", "layering", "lobes", "materials",
-           "media", "microfacet", "paper_figures", "plot", "quadrature", "registry", "render",
+__all__ = ["composition", "config", "dispersion", "frame", "fresnel", "haze", "hazy", "lobes",
+           "materials", "media", "microfacet", "paper_figures", "plot", "quadrature", "render",
            "spectral", "tables",
-           "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "asm_alpha"]
+           "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann"]
 __version__ = "0.1.0"

@@ -1,6 +1,6 @@
 """Command line: ``python -m adobe_bsdf check`` validates every registered lobe.
 
-For each case of ``adobe_bsdf.registry`` and each of its incident angles it measures:
+For each case of ``adobe_bsdf.validation.cases`` and each of its incident angles it measures:
 
 * ``chi2``        sampling against the pdf (p-value; Šidák-corrected over all chi-square tests);
 * ``furnace``     energy albedo by quadrature against an independent value: the case's closed
@@ -21,9 +21,8 @@ import time
 
 import numpy as np
 
-import adobe_bsdf  # noqa: F401  (registers the lobes)
-from adobe_bsdf.registry import cases
 from adobe_bsdf.validation import checks
+from adobe_bsdf.validation.cases import cases
 from adobe_bsdf.validation.chi2 import chi2_test, suggest_grid
 
 #: thresholds of the check table

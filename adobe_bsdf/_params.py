@@ -2,6 +2,11 @@
 
 Every check raises ``ValueError`` naming the parameter, the offending value and the allowed
 range. Nothing is clamped.
+
+Parameters are validated once, where the user hands them in: a public constructor checks
+its arguments and calls ``_init``, which only stores them and derives what it needs; code
+that assembles objects from values it has validated already calls ``cls._new(...)``
+(``Validated``), which runs ``_init`` alone.
 """
 
 from __future__ import annotations
@@ -10,6 +15,21 @@ import numpy as np
 
 #: tolerance on |w| - 1 for direction arguments
 UNIT_TOLERANCE = 1e-6
+
+
+class Validated:
+    """Mixin of the classes whose ``__init__`` validates and then calls ``_init``."""
+
+    def _init(self, *args, **kwargs):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    @classmethod
+    def _new(cls, *args, **kwargs):
+        """An instance of already-validated arguments: ``_init`` without the checks of
+        ``__init__`` (internal assembly)."""
+        obj = object.__new__(cls)
+        obj._init(*args, **kwargs)
+        return obj
 
 
 def _first_bad(value: np.ndarray, bad: np.ndarray):
@@ -44,11 +64,16 @@ def integer(name: str, value, lo: int) -> int:
 def color(name: str, value, lo: float = -np.inf, hi: float = np.inf) -> np.ndarray:
     """A colour parameter: a scalar or an array with a trailing axis of 3, as ``(..., 3)``."""
     arr = real(name, value, lo, hi)
-    if arr.ndim == 0 or arr.shape[-1] == 1:
-        return np.repeat(arr[..., None] if arr.ndim == 0 else arr, 3, axis=-1)
-    if arr.shape[-1] != 3:
+    if arr.ndim and arr.shape[-1] not in (1, 3):
         raise ValueError(f"{name} has shape {arr.shape}; a colour is a scalar or has a "
                          "trailing axis of 3")
+    return as_color(arr)
+
+
+def as_color(arr: np.ndarray) -> np.ndarray:
+    """A validated float64 scalar or array with a trailing axis of 1 or 3 as ``(..., 3)``."""
+    if arr.ndim == 0 or arr.shape[-1] == 1:
+        return np.repeat(arr[..., None] if arr.ndim == 0 else arr, 3, axis=-1)
     return arr
 
 

@@ -5,6 +5,9 @@ Public API
 ``Flags``       bit flags of a sample or a lobe (reflection, transmission, diffuse, glossy, delta).
 ``BSDFSample``  the record returned by ``sample``.
 ``Lobe``        base class: validates and broadcasts inputs, then calls the private maths.
+``HOOKS``       the private protocol: every hook a lobe may implement, with its contract.
+``SupportLobe`` a lobe whose maths runs on its support only.
+``finished_sample`` a sampler's raw arrays as a ``BSDFSample`` with failed samples zeroed.
 
 Conventions (``docs/conventions.md``, ``design.md``): directions are unit vectors in the local
 shading frame (normal ``+z``), ``wo`` towards the viewer, ``wi`` towards the light, both pointing
@@ -23,8 +26,8 @@ import numpy as np
 
 from adobe_bsdf import _params, config, quadrature
 
-__all__ = ["Flags", "BSDFSample", "Lobe", "Wrapper", "SupportLobe", "ALBEDO_METHODS", "luminance",
-           "on_support", "finished_sample"]
+__all__ = ["Flags", "BSDFSample", "Hook", "HOOKS", "Lobe", "SupportLobe", "ALBEDO_METHODS",
+           "luminance", "on_support", "finished_sample"]
 
 ALBEDO_METHODS = ("quadrature", "mc", "table")
 #: Rec. 709 / sRGB luminance weights of linear RGB
@@ -128,21 +131,70 @@ class BSDFSample(NamedTuple):
     flags: np.ndarray
 
 
-class Lobe:
-    """Base class of every lobe: public methods validate and broadcast, ``_eval`` etc. compute.
+class Hook(NamedTuple):
+    """One hook of the private protocol: ``name(*args)``, what it returns, its contract."""
 
-    Subclasses implement ``_eval(wo, wi) -> (..., 3)``, ``_pdf(wo, wi) -> (...)`` and
-    ``_sample(wo, u) -> BSDFSample``; a lobe with delta branches (on which ``_eval`` is 0)
-    overrides ``_delta_albedo(wo) -> (..., 3)``, their energy, and one with an interface
-    overrides ``_energy_scale(wo, wi)``. ``albedo(method="quadrature")`` integrates ``_eval`` in
-    direction space and adds ``_delta_albedo``. A lobe that samples according to the path
-    throughput overrides ``_sample_t``, ``_pdf_t`` and ``_eval_pdf_t`` (which default to the
-    throughput-blind methods), and wrappers forward them.
-    Lobes are frozen: the constructor validates and stores parameters only.
+    name: str
+    args: tuple
+    returns: str
+    contract: str
+
+
+#: The private protocol, declared once: every hook a lobe implements or inherits, in the order
+#: the public methods use them. Arguments named ``wo``/``wi`` are directions in the lobe's
+#: frame; ``composition.Wrapper`` forwards exactly this list (``tests/test_protocol.py``).
+HOOKS = (
+    Hook("_param_shape", (), "shape",
+         "batch shape of the parameters: () if all are scalars (colours allowed), None if "
+         "unknown; only () lobes run in chunks"),
+    Hook("_eval", ("wo", "wi"), "rgb", "f(wo, wi) (..., 3), radiance transport, no cosine"),
+    Hook("_pdf", ("wo", "wi"), "density", "solid-angle density (...) of _sample for a white path"),
+    Hook("_eval_pdf", ("wo", "wi"), "pair", "(_eval, _pdf), sharing what the two have in common"),
+    Hook("_sample", ("wo", "u"), "sample", "BSDFSample from uniforms (..., 3), white path"),
+    Hook("_pdf_t", ("wo", "wi", "throughput"), "density",
+         "_pdf for a path of throughput (..., 3) (a lobe that picks channels by it)"),
+    Hook("_eval_pdf_t", ("wo", "wi", "throughput"), "pair", "(_eval, _pdf_t)"),
+    Hook("_sample_t", ("wo", "u", "throughput"), "sample", "_sample for a path of throughput"),
+    Hook("_delta_albedo", ("wo",), "rgb",
+         "energy (..., 3) of the delta branches, on which _eval is 0 (0 without)"),
+    Hook("_albedo_table", ("wo", "with_error"), "albedo",
+         "(E, error) (..., 3) from baked tables; error None unless with_error; ValueError "
+         "where there is no table"),
+    Hook("_albedo_quadrature", ("wo", "tol"), "albedo",
+         "(E, error) (..., 3) by direction-space quadrature plus _delta_albedo"),
+    Hook("_top_albedo", ("wo",), "rgb",
+         "E(wo) (..., 3) as the top of a Layer, never an underestimate (the layer would add "
+         "energy)"),
+    Hook("_sampling_weight", ("wo",), "weight",
+         "positive estimate (...) of the albedo: the share with which a mixture picks the lobe"),
+    Hook("_energy_scale", ("wo", "wi"), "factor",
+         "radiance-to-energy factor (...): (eta_i / eta_o)^2 across an interface, else 1"),
+    Hook("_energy_scale_rgb", ("wo", "wi"), "factor",
+         "_energy_scale per colour channel, (..., 3) or broadcasting to it"),
+)
+
+
+class Lobe(_params.Validated):
+    """Base class of every lobe: public methods validate and broadcast, the hooks of ``HOOKS``
+    compute.
+
+    A leaf lobe implements ``_eval``, ``_pdf`` and ``_sample``; the other hooks have defaults
+    (a lobe with delta branches overrides ``_delta_albedo``, one with an interface
+    ``_energy_scale``, one that samples by the path throughput the ``_t`` hooks).
+    ``albedo(method="quadrature")`` integrates ``_eval`` in direction space and adds
+    ``_delta_albedo``. Lobes are frozen: the constructor validates and stores parameters only.
+
+    ``eta`` (the interface's relative index n_below / n_above, or None) and
+    ``eta_per_channel`` (one index per colour channel) describe the lobe's interface for
+    generalized reciprocity (``validation.checks.reciprocity_error``).
     """
 
     #: union of the flags any sample of this lobe can carry
     flags: Flags = Flags.NONE
+    #: relative index of the lobe's interface (None: no interface)
+    eta = None
+    #: whether ``eta`` has one index per colour channel
+    eta_per_channel: bool = False
 
     # -- public protocol -------------------------------------------------------------------
     def eval(self, wo, wi) -> np.ndarray:
@@ -226,7 +278,7 @@ class Lobe:
         if method == "quadrature":
             value, error = self._albedo_quadrature(wo, tol)
         elif method == "mc":
-            value, error = self._albedo_mc(wo, n_samples, rng)
+            value, error = _mc_albedo(self, wo, n_samples, rng)
         else:
             raise ValueError(f"method = {method!r} is not one of {ALBEDO_METHODS}")
         return (value, error) if return_error else value
@@ -292,17 +344,6 @@ class Lobe:
         """``(value, error)`` of ``albedo(method="quadrature")``."""
         return quadrature.albedo(self, wo, tol=tol)
 
-    def _albedo_mc(self, wo, n_samples, rng):
-        n_samples = _params.integer("n_samples", n_samples, 2)
-        rng = np.random.default_rng(rng)
-        batch = wo.shape[:-1]
-        u = rng.random((n_samples, *batch, 3))
-        wo = np.broadcast_to(wo, u.shape)
-        s = self._sample(wo, u)
-        weight = s.weight * self._energy_scale_rgb(wo, s.wi)
-        mean = weight.mean(axis=0)
-        return mean, weight.std(axis=0, ddof=1) / np.sqrt(n_samples)
-
     def _energy_scale(self, wo, wi):
         """Factor from radiance to energy: (eta_i / eta_o)^2 across an interface, else 1."""
         return np.ones(np.broadcast_shapes(wo.shape, wi.shape)[:-1])
@@ -341,25 +382,6 @@ class Lobe:
         return np.zeros(wo.shape[:-1] + (3,))
 
 
-class Wrapper(Lobe):
-    """A lobe built around another, ``_inner()``, whose interface it shares: ``eta`` and
-    ``eta_per_channel`` (read by ``validation.checks.reciprocity_error``) are the inner
-    lobe's."""
-
-    def _inner(self) -> Lobe:  # pragma: no cover - abstract
-        raise NotImplementedError
-
-    @property
-    def eta(self):
-        """The inner lobe's interface index (generalized reciprocity), or None."""
-        return getattr(self._inner(), "eta", None)
-
-    @property
-    def eta_per_channel(self) -> bool:
-        """Whether ``eta`` has one index per colour channel (``Dispersive``)."""
-        return getattr(self._inner(), "eta_per_channel", False)
-
-
 class SupportLobe(Lobe):
     """A lobe whose ``eval``, ``pdf`` and ``eval_pdf`` are kernels ``(wo, wi, up)`` run on its
     support only (``on_support``): subclasses define ``_support(wo, wi) -> bool (...)`` and
@@ -380,6 +402,20 @@ class SupportLobe(Lobe):
 
     def _eval_pdf(self, wo, wi):
         return self._on_support(self._eval_pdf_kernel, wo, wi)
+
+
+def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
+    """``(mean, standard error)`` of ``n_samples`` energy-scaled sample weights per direction
+    (``albedo(method="mc")``)."""
+    n_samples = _params.integer("n_samples", n_samples, 2)
+    rng = np.random.default_rng(rng)
+    batch = wo.shape[:-1]
+    u = rng.random((n_samples, *batch, 3))
+    wo = np.broadcast_to(wo, u.shape)
+    s = lobe._sample(wo, u)
+    weight = s.weight * lobe._energy_scale_rgb(wo, s.wi)
+    mean = weight.mean(axis=0)
+    return mean, weight.std(axis=0, ddof=1) / np.sqrt(n_samples)
 
 
 def finished_sample(wi, weight, pdf, flags) -> BSDFSample:

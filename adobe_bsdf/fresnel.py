@@ -12,10 +12,12 @@ Public API
                                                        Gulbrandsen's artist-friendly conductor
                                                        parameters (reflectivity, edge tint) and
                                                        back
+``Fresnel``                                            the protocol of a model with fixed
+                                                       parameters, as lobes use it
 ``ExactConductor(eta, k)``, ``ExactDielectric(eta)``, ``F82Tint(f0, tint, f90, exponent)``
-                                                       the same models as objects with fixed
-                                                       parameters, for lobes: callable on
-                                                       cos theta, and ``from_cos2`` (cos^2)
+                                                       the models above as ``Fresnel`` objects
+``FresnelFunction(function)``                          any callable cos theta -> reflectance
+                                                       as a ``Fresnel``
 
 Shapes: ``cos_theta`` is ``(...)``; the colour models return ``(..., 3)`` with colour
 parameters given as scalars or ``(..., 3)`` arrays. ``dielectric`` returns ``(...)`` for a
@@ -23,13 +25,10 @@ scalar/``(...)`` ``eta``.
 
 References
 ----------
-[000] Kutz, Hašan, Edmondson 2021, Novel aspects of the Adobe Standard Material
-      (``shared/seeds/000_dc1170558b4eb881.txt``), §2.
-[001] Hoffman 2023, Generalization of Adobe's Fresnel Model
-      (``shared/seeds/001_fc0819a3e178da01.txt``).
-Born & Wolf, *Principles of Optics*, §1.5 and §13.2 (Fresnel equations, absorbing media).
-Gulbrandsen 2014, "Artist Friendly Metallic Fresnel", JCGT 3(4); used for coloured conductors
-by [002] Barla, Pacanowski, Vangorp 2018 (``shared/seeds/002_01cff37cda6a7899.txt``), §4.
+[Kutz2021, §2] F82 and F82-tint. [Hoffman2023] the generalized F82-tint (r90, exponent).
+[BornWolf1980, §1.5, §13.2] Fresnel equations, absorbing media.
+[Gulbrandsen2014] artist-friendly metallic Fresnel; used for coloured conductors by
+[Barla2018, §4].
 """
 
 from __future__ import annotations
@@ -305,7 +304,47 @@ def _channel_major(x, ndim: int) -> np.ndarray:
     return x.reshape((3,) + (1,) * (ndim - (x.ndim - 1)) + x.shape[1:])
 
 
-class ExactConductor:
+class Fresnel(_params.Validated):
+    """A Fresnel model with fixed parameters, the protocol lobes dispatch on.
+
+    ``model(cos_theta)`` validates the cosine and returns the reflectance, ``(..., 3)``
+    (colour models) or ``(...)`` (grey); ``from_cos2(c2)`` is the same from cos^2 theta >= 0
+    without checks (a lobe that knows it); ``param_shape`` is the batch shape of the
+    parameters beyond the colour axis, or None where it is unknown (no chunked execution).
+    """
+
+    #: batch shape of the parameters (beyond the colour axis); None: unknown
+    param_shape: tuple | None = None
+
+    def __call__(self, cos_theta) -> np.ndarray:
+        c = _cos("cos_theta", cos_theta)
+        return self.from_cos2(c * c)
+
+    def from_cos2(self, c2) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+class FresnelFunction(Fresnel):
+    """A plain callable ``function(cos_theta) -> reflectance`` as a ``Fresnel`` (its
+    parameters, and so their shape, are unknown)."""
+
+    def __init__(self, function):
+        if not callable(function):
+            raise ValueError(f"fresnel = {function!r} is not callable (allowed: None, a "
+                             "Fresnel model or a callable cos_theta -> reflectance)")
+        self.function = function
+
+    def __repr__(self) -> str:
+        return repr(self.function)
+
+    def __call__(self, cos_theta) -> np.ndarray:
+        return self.function(cos_theta)
+
+    def from_cos2(self, c2) -> np.ndarray:
+        return self.function(np.sqrt(c2))
+
+
+class ExactConductor(Fresnel):
     """Exact conductor Fresnel with fixed eta + i k (``conductor``), as an object for lobes.
 
     ``ExactConductor(eta, k)(cos_theta) -> (..., 3)``; ``from_cos2(c2)`` skips the
@@ -313,12 +352,15 @@ class ExactConductor:
     """
 
     def __init__(self, eta, k):
-        self.eta = _params.color("eta", eta, 0.0, np.inf)
-        self.k = _params.color("k", k, 0.0, np.inf)
-        if np.any(self.eta <= 0.0):
-            raise ValueError(f"eta = {self.eta[self.eta <= 0.0].flat[0]!r} is outside the "
+        eta = _params.color("eta", eta, 0.0, np.inf)
+        k = _params.color("k", k, 0.0, np.inf)
+        if np.any(eta <= 0.0):
+            raise ValueError(f"eta = {eta[eta <= 0.0].flat[0]!r} is outside the "
                              "allowed range (0, inf)")
-        self.eta, self.k = np.broadcast_arrays(self.eta, self.k)
+        self._init(eta, k)
+
+    def _init(self, eta, k):
+        self.eta, self.k = np.broadcast_arrays(eta, k)
         self._A = self.eta * self.eta - self.k * self.k
         self._B = 4.0 * self.eta * self.eta * self.k * self.k
         self._matched = (self.eta == 1.0) & (self.k == 0.0)
@@ -328,24 +370,22 @@ class ExactConductor:
     def __repr__(self) -> str:
         return f"ExactConductor(eta={self.eta}, k={self.k})"
 
-    def __call__(self, cos_theta) -> np.ndarray:
-        c = _cos("cos_theta", cos_theta)
-        return self.from_cos2(c * c)
-
     def from_cos2(self, c2) -> np.ndarray:
         return _conductor_cos2(c2, self._A, self._B, self._matched)
 
 
-class F82Tint:
+class F82Tint(Fresnel):
     """The F82-tint metal Fresnel (``f82_tint``) with fixed parameters, as an object for lobes:
     ``F82Tint(f0, tint, f90=1, exponent=5)(cos_theta) -> (..., 3)``; ``from_cos2(c2)`` for
     c = sqrt(c2) >= 0 (seed 000 eqs. 6-8, seed 001 eqs. 5-6)."""
 
     def __init__(self, f0, tint, f90=1.0, exponent=5.0):
-        self.f0 = _params.color("f0", f0, 0.0, 1.0)
-        self.tint = _params.color("tint", tint, 0.0, np.inf)
-        self.f90 = _params.color("f90", f90, 0.0, 1.0)
-        self.exponent = _params.real("exponent", exponent, 0.0, np.inf, lo_open=True)
+        self._init(_params.color("f0", f0, 0.0, 1.0), _params.color("tint", tint, 0.0, np.inf),
+                   _params.color("f90", f90, 0.0, 1.0),
+                   _params.real("exponent", exponent, 0.0, np.inf, lo_open=True))
+
+    def _init(self, f0, tint, f90, exponent):
+        self.f0, self.tint, self.f90, self.exponent = f0, tint, f90, exponent
         #: batch shape of the parameters (beyond the colour axis)
         self.param_shape = np.broadcast_shapes(self.f0.shape[:-1], self.tint.shape[:-1],
                                                self.f90.shape[:-1], self.exponent.shape)
@@ -362,13 +402,16 @@ class F82Tint:
         return _f82_tint(np.sqrt(c2), self.f0, self.tint, self.f90, self.exponent)
 
 
-class ExactDielectric:
+class ExactDielectric(Fresnel):
     """Exact dielectric Fresnel with fixed relative index ``eta`` (``dielectric``), as an
     object for lobes; returns ``(...)`` (grey). ``from_cos2(c2)`` is for c = sqrt(c2) >= 0."""
 
     def __init__(self, eta):
-        self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
-        self.param_shape = self.eta.shape
+        self._init(_params.real("eta", eta, 0.0, np.inf, lo_open=True))
+
+    def _init(self, eta):
+        self.eta = eta
+        self.param_shape = eta.shape
 
     def __repr__(self) -> str:
         return f"ExactDielectric(eta={self.eta})"

@@ -7,7 +7,6 @@ Public API
 ``Beckmann(alpha_x, alpha_y=None, masking="correlated")``: the same interface.
 ``Mixture(narrow, wide, beta)``: (1 - beta) D_n + beta D_w with its compound Smith masking.
 ``distribution(model, alpha_x, alpha_y=None, masking="correlated")``: one of ``MODELS``.
-``asm_alpha(roughness, anisotropy=0)``: ASM (roughness, anisotropy) -> (alpha_x, alpha_y).
 ``ALPHA_MIN``: alphas below it are smooth (see ``GGX``).
 
 All functions take local-frame unit vectors ``(..., 3)`` (normal +z, alpha_x along +x) and
@@ -15,12 +14,11 @@ broadcast against the distribution's parameters.
 
 References
 ----------
-Walter, Marschner, Li, Torrance 2007, "Microfacet models for refraction through rough surfaces".
-Heitz 2014, "Understanding the masking-shadowing function in microfacet-based BRDFs", JCGT 3(2):
-eqs. 72 and 86 (anisotropic GGX Lambda), eq. 99 (height-correlated G2), eq. 43 (G1 G1).
-Heitz 2018, "Sampling the GGX distribution of visible normals", JCGT 7(4), eq. 3 (D_wo).
-Dupuy, Benyoub 2023, "Sampling visible GGX normals with spherical caps", CGF 42(8), Listing 3.
-[000] ASM (``shared/seeds/000_dc1170558b4eb881.txt``) §3 eqs. 9-10 (``asm_alpha``).
+[Walter2007] microfacet models for refraction through rough surfaces.
+[Heitz2014, eqs. 72 and 86] anisotropic GGX Lambda; [Heitz2014, eq. 99] height-correlated G2;
+[Heitz2014, eq. 43] G1 G1.
+[Heitz2018, eq. 3] the visible-normal density D_wo.
+[DupuyBenyoub2023, Listing 3] visible-normal sampling with spherical caps.
 """
 
 from __future__ import annotations
@@ -31,7 +29,7 @@ from scipy import special
 from adobe_bsdf import _params
 from adobe_bsdf.frame import dot
 
-__all__ = ["GGX", "Beckmann", "Mixture", "MODELS", "distribution", "asm_alpha", "ALPHA_MIN",
+__all__ = ["GGX", "Beckmann", "Mixture", "MODELS", "distribution", "ALPHA_MIN",
            "MASKING"]
 
 #: smallest alpha of a rough lobe. Where both alphas are below it the lobe is smooth (a delta
@@ -58,28 +56,22 @@ def _normalize(x, y, z):
     return x, y, z * inv
 
 
-def asm_alpha(roughness, anisotropy=0.0):
-    """ASM anisotropic roughness: alpha_x = r^2 + a^4, alpha_y = r^2 (seed 000 eqs. 9-10).
-
-    ``roughness`` r and ``anisotropy`` a in [0, 1]. Returns ``(alpha_x, alpha_y)``.
-    """
-    r = _params.real("roughness", roughness, 0.0, 1.0)
-    a = _params.real("anisotropy", anisotropy, 0.0, 1.0)
-    return r * r + a**4, np.broadcast_to(r * r, np.broadcast_shapes(r.shape, a.shape)).copy()
-
-
-class _Distribution:
+class _Distribution(_params.Validated):
     """What every microfacet distribution shares: validated anisotropic alphas, the smooth
     (delta) limit below ``ALPHA_MIN``, the masking form, and safe alphas for divisions."""
 
     def __init__(self, alpha_x, alpha_y=None, masking: str = "correlated"):
         ax = _params.real("alpha_x", alpha_x, 0.0, np.inf)
         ay = ax if alpha_y is None else _params.real("alpha_y", alpha_y, 0.0, np.inf)
+        self._init(ax, ay, _params.choice("masking", masking, MASKING))
+
+    def _init(self, ax, ay, masking: str = "correlated"):
+        """Store validated alphas (float64 arrays) and derive the smooth limit."""
         ax, ay = np.broadcast_arrays(ax, ay)
         self.smooth = (ax < ALPHA_MIN) & (ay < ALPHA_MIN)
         self.alpha_x = np.where(self.smooth, ax, np.maximum(ax, ALPHA_MIN))
         self.alpha_y = np.where(self.smooth, ay, np.maximum(ay, ALPHA_MIN))
-        self.masking = _params.choice("masking", masking, MASKING)
+        self.masking = masking
         # safe alphas for the divisions below (the smooth elements are masked afterwards)
         self._ax = np.where(self.smooth, 1.0, self.alpha_x)
         self._ay = np.where(self.smooth, 1.0, self.alpha_y)

@@ -31,13 +31,13 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import partial
 
 import numpy as np
 
-from adobe_bsdf import fresnel, hazy, layering, lobes
+from adobe_bsdf import composition, fresnel, hazy, lobes
 from adobe_bsdf.bsdf import Lobe
 from adobe_bsdf.materials import AdobeStandardMaterial, presets
+from adobe_bsdf.materials.asm import CoatTransmittance
 
 __all__ = ["Scene", "SCENES", "coat_tint_pair"]
 
@@ -100,7 +100,7 @@ FIG15_ROUGHNESS = (0.2, 0.4, 0.6, 0.8)
 
 def asm_fig15() -> Scene:
     dark = AdobeStandardMaterial(base_color=(0.02, 0.02, 0.03), roughness=0.5)
-    sheens = {f"c = {c:g}, r = {r:g}": layering.Layer(lobes.Sheen(1.0, r, c=c), dark)
+    sheens = {f"c = {c:g}, r = {r:g}": composition.Layer(lobes.Sheen(1.0, r, c=c), dark)
               for c in (1.0, 2.0) for r in FIG15_ROUGHNESS}
     return Scene("sheen c = 1 (top) and c = 2 (bottom) over a dark base", "seed 000 Fig. 15",
                  "sun", len(FIG15_ROUGHNESS), sheens,
@@ -114,12 +114,11 @@ FIG18_COAT, FIG18_COAT_IOR = (0.9, 0.6, 0.3), 1.6
 def coat_tint_pair(coat_color, coat_ior, **base) -> tuple[Lobe, Lobe]:
     """(uniform tint, view-dependent tint): the same ASM coat (roughness 0.1) over the ASM
     base ``base``; the uniform one swaps the coat's transmittance for
-    ``coat_transmittance(..., view_dependent=False)`` (seed 000 §7, Fig. 18)."""
+    ``CoatTransmittance(..., view_dependent=False)`` [Kutz2021, §7, Fig. 18]."""
     coated = AdobeStandardMaterial(coat_opacity=1.0, coat_ior=coat_ior, coat_roughness=0.1,
                                    coat_color=coat_color, **base)
-    uniform = layering.Layer(coated.lobes["coat"], coated.bsdf.base, 1.0,
-                             partial(lobes.coat_transmittance, coat_color, coat_ior,
-                                     view_dependent=False))
+    uniform = composition.Layer(coated.lobes["coat"], coated.bsdf.base, 1.0,
+                                CoatTransmittance(coat_color, coat_ior, view_dependent=False))
     return uniform, coated
 
 
@@ -139,7 +138,7 @@ def hazy_fig3() -> Scene:
     green = lobes.Lambert((0.04, 0.18, 0.04))
     spheres = {}
     for b in np.linspace(0.0, 0.1, 5):
-        spheres[f"dielectric β_h = {b:.3f}"] = lobes.Sum(hazy.HazyGloss(0.04, b, 7.0, 0.01),
+        spheres[f"dielectric β_h = {b:.3f}"] = composition.Sum(hazy.HazyGloss(0.04, b, 7.0, 0.01),
                                                          green)
     for b in (0.0, 0.25, 0.5, 0.75, 0.95):
         spheres[f"conductor β_h = {b:g}"] = hazy.HazyGloss((0.9, 0.6, 0.3), b, 7.0, 0.01,
@@ -156,7 +155,7 @@ def hazy_fig8() -> Scene:
     F = fresnel.ExactConductor(*fresnel.gulbrandsen_to_ior(fixed["core_reflectivity"], 0.0))
     spheres = {}
     for beta in np.linspace(first, last, 5):
-        spheres[f"β = {beta:.2f}"] = lobes.Sum(lobes.Conductor(alpha_n, fresnel=F),
+        spheres[f"β = {beta:.2f}"] = composition.Sum(lobes.Conductor(alpha_n, fresnel=F),
                                                lobes.Conductor(alpha_w, fresnel=F),
                                                weights=[1.0 - beta, beta])
     for value in np.linspace(first, last, 5):

@@ -1,4 +1,4 @@
-"""Measure the ASM metals against seed 000 Table 1 and write ``docs/asm_measured.md``.
+"""Measure the ASM metals against [Kutz2021, Table 1] and write ``docs/asm_measured.md``.
 
     python -m benchmarks.asm_report [--out DIR]
 
@@ -28,8 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from adobe_bsdf import dispersion, fresnel, lobes, media, paper_figures, spectral
-from adobe_bsdf.materials import presets
+from adobe_bsdf import dispersion, fresnel, media, paper_figures, spectral
+from adobe_bsdf.materials import asm, presets
 from benchmarks import generated_by
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
@@ -58,7 +58,7 @@ def measure():
 
 def measure_f82():
     """Original F82 with a white edge colour (h = 1): its maximum over cos theta and where
-    (seed 000 Fig. 4), against F82-tint with a white tint (= Schlick <= 1)."""
+    [Kutz2021, Fig. 4], against F82-tint with a white tint (= Schlick <= 1)."""
     mu = np.linspace(0.0, 1.0, 100_001)
     rows = []
     for f0 in (0.02, 0.04, 0.2, 0.5, 0.8, 0.95):
@@ -87,7 +87,7 @@ def measure_furnace():
     rows = []
     for a in (0.0, 0.5, 1.0):
         for r in (0.05, 0.3, 0.7, 1.0):
-            lobe = lobes.asm_metal(1.0, 1.0, r, a)
+            lobe = asm.asm_metal(1.0, 1.0, r, a)
             errors = [abs(float(lobe.albedo(np.array([np.sqrt(1 - c * c), 0.0, c]),
                                             tol=1e-8)[0]) - 1.0)
                       for c in (1.0, 0.5, 0.1, 0.02)]
@@ -97,7 +97,7 @@ def measure_furnace():
 
 def markdown_furnace(rows):
     out = ["", "## White metal furnace", "",
-           "`lobes.asm_metal(1, 1, roughness, anisotropy_level)`: F = 1, so single scattering "
+           "`materials.asm.asm_metal(1, 1, roughness, anisotropy_level)`: F = 1, so single scattering "
            "plus the Kulla–Conty term should reflect everything. Max |E − 1| over cos θ_o ∈ "
            "{1, 0.5, 0.1, 0.02}. The multiple-scattering tables are isotropic and are looked "
            "up at α = √(α_x α_y); anisotropic lobes lose what that approximation misses.", "",
@@ -206,7 +206,7 @@ def measure_colour_noise(n_samples: int = 200_000):
     u = np.random.default_rng(11).random((n_samples, 3))
     rows = []
     for r in (0.0, 0.05, 0.1, 0.3, 0.6):
-        s = lobes.asm_dielectric(1.5, r, 0.0, 0.0, 1.0).sample(wo, u)
+        s = asm.asm_dielectric(1.5, r, 0.0, 0.0, 1.0).sample(wo, u)
         t = (s.wi[:, 2] < 0) & (s.pdf > 0)
         w = s.weight[t]
         spread = float(np.mean((w.max(-1) - w.min(-1)) / w.mean(-1)))
@@ -225,7 +225,7 @@ def markdown_dispersion(rows, noise):
     out += [f"| {name} | {n_d} | {v} | {d:.4f} | {_fmt(n)} | {dt:.3f} |"
             for name, n_d, v, d, n, dt in rows]
     out += ["", "## Colour noise of the dispersive transmission against roughness (Fig. 10)", "",
-            "`lobes.asm_dielectric(1.5, r, dispersion=1)`, cos θo = 0.7, white throughput, "
+            "`materials.asm.asm_dielectric(1.5, r, dispersion=1)`, cos θo = 0.7, white throughput, "
             "200000 samples. Spread: mean over transmitted samples of "
             "(max − min)/mean of the RGB weight (3 when a sample carries one channel only). "
             "The balance heuristic over the three channels' samplers makes samples greyer as "
@@ -292,7 +292,7 @@ def markdown_coat(tint, recip):
            f"Coat colour {COAT_COLOR}, coat ior 1.6, coat roughness 0.1 (base ior 1.5: 1.6/1.5 "
            "under the coat, Fig. 17); albedo by quadrature "
            "(tol 1e-6). Uniform: t(w) = sqrt(colour), so t(wo) t(wi) = colour at every angle. "
-           "View-dependent: t(w) = colour^(1 / (2 mu_t)) (`lobes.coat_transmittance`). "
+           "View-dependent: t(w) = colour^(1 / (2 mu_t)) (`materials.asm.coat_transmittance`). "
            "Chroma = (max − min)/max of the RGB albedo.", "",
            "| base | cos θo | uniform | view-dependent | chroma uniform | chroma view-dep. |",
            "|---|---|---|---|---|---|"]
@@ -302,7 +302,7 @@ def markdown_coat(tint, recip):
                        f"{_chroma(v):.3f} |")
     out += ["", "## Non-reciprocity of the layers", "",
             "Albedo scaling weighs the base by 1 − E_top(wo), which depends on wo only "
-            "(`layering`). Relative |f(wo, wi) − f(wi, wo)| / max over 2 × 10⁴ random "
+            "(`composition.Layer`). Relative |f(wo, wi) − f(wi, wo)| / max over 2 × 10⁴ random "
             "reflection pairs with both cosines ≥ 0.1; ASM over a white diffuse, roughness "
             "0.5.", "", "| layer | max | RMS |", "|---|---|---|"]
     out += [f"| {name} | {mx:.2e} | {rms:.2e} |" for name, mx, rms in recip]
@@ -317,7 +317,7 @@ def markdown(rows, seconds):
         generated_by("benchmarks.asm_report", seconds, "asm.md"),
         "",
         "F0 and F82 tint from the shipped n + i k spectra (`adobe_bsdf/data/README.md` names "
-        "the sources) by `spectral.fit_f82_tint`, and their differences from seed 000 Table 1 "
+        "the sources) by `spectral.fit_f82_tint`, and their differences from [Kutz2021, Table 1] "
         "(ours − Table 1; Table 1 has no entry for CuZn). The fit error is the largest "
         "|F82-tint − exact| over cos θ ∈ [0, 1], per channel.",
         "",

@@ -9,7 +9,8 @@ import time
 
 import numpy as np
 
-from adobe_bsdf.lobes import ConductorMS, DielectricMS, asm_dielectric_base
+from adobe_bsdf.lobes import ConductorMS, DielectricMS
+from adobe_bsdf.materials.asm import asm_dielectric_base
 
 COSINES = (1.0, 0.5, 0.1, 0.02)
 

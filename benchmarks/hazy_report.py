@@ -2,7 +2,7 @@
 
     python -m benchmarks.hazy_report [--smoke] [--out DIR]
 
-* Fig. 3 (left) of seed 002: k_h against r_c, the positivity and energy bounds (eq. 6), eq. 7
+* [Barla2018, Fig. 3 (left)]: k_h against r_c, the positivity and energy bounds (eq. 6), eq. 7
   for several beta_h and the rational Bézier curves (eq. 15) for w in {1, 2, 4, 8};
 * Table 2: the peak ratio p of each model against the ratio of the two Conductor lobes'
   actual values at (n, n), over a grid of narrow and wide roughnesses;
@@ -92,7 +92,7 @@ def masking_energy(smoke: bool):
             alpha_w = alpha_n * (1.0 + extent)
             narrow, wide = make(alpha_n), make(alpha_w)
             for beta in betas:
-                separate = ab.lobes.Sum(ab.lobes.Conductor.over(narrow),
+                separate = ab.composition.Sum(ab.lobes.Conductor.over(narrow),
                                         ab.lobes.Conductor.over(wide),
                                         weights=[1.0 - beta, beta])
                 compound = ab.lobes.Conductor.over(ab.microfacet.Mixture(narrow, wide, beta))
@@ -190,7 +190,7 @@ def _markdown(peaks, invariance, masking, glass, figures, seconds):
         "",
         generated_by("benchmarks.hazy_report", seconds, "hazy.md"),
         "",
-        "## k_h against r_c (seed 002 Fig. 3, left)",
+        "## k_h against r_c [Barla2018, Fig. 3, left]",
         "",
     ]
     if not figures:

@@ -413,7 +413,7 @@ def _throughput(results: dict, figure: str | None) -> list:
     skipped = [r for r in tp["rows"] if "skipped" in r]
     errors = [r for r in tp["rows"] if "error" in r]
     out += [f"Evaluations per second with {_threads(cpus)} threads (memory passes in "
-            f"parentheses), median of {tp['runs']} runs, `adobe_bsdf.registry.cases()`. "
+            f"parentheses), median of {tp['runs']} runs, `adobe_bsdf.validation.cases.cases()`. "
             f"Sizes above {_n(tp['slice'])} are run in slices of {_n(tp['slice'])}. Every "
             f"case is measured at the sizes up to {_n(tp['reference_size'])}; the 1-thread "
             f"runs at {_n(tp['reference_size'])} and the larger sizes are run cheapest first "

@@ -1,4 +1,4 @@
-"""Measure the ASM sheen (seed 000 §6) and write ``docs/sheen_measured.md``.
+"""Measure the ASM sheen [Kutz2021, §6] and write ``docs/sheen_measured.md``.
 
     python -m benchmarks.sheen_report [--smoke] [--out DIR]
 

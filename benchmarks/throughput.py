@@ -194,7 +194,7 @@ def run(wo, wi, u, smoke: bool = False, extra_seconds: float = EXTRA_SECONDS,
     cpus = variants[0]
     rows, pending = [], []
     start = time.perf_counter()
-    for case in adobe_bsdf.registry.cases():
+    for case in adobe_bsdf.validation.cases.cases():
         try:
             lobe = case.make()
         except Exception as exc:

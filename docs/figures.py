@@ -7,9 +7,9 @@ Every figure is drawn by ``adobe_bsdf.plot`` from the library itself:
 * ``theory_lobes.png``     polar slices (plane of incidence, f |cos|) of a GGX conductor, a
                            rough glass from both sides, the ASM sheen and a hazy gloss lobe;
 * ``theory_furnace.png``   white-furnace curves E(mu) - 1: GGX alone, with Kulla–Conty, and
-                           the white ASM dielectric (seed 000 Fig. 2);
+                           the white ASM dielectric [Kutz2021, Fig. 2];
 * ``theory_gold.png``      gold's exact spectral Fresnel against Schlick, F82 and F82-tint
-                           (seed 000 §2);
+                           [Kutz2021, §2];
 * ``paper_<scene>.png``    the papers' sphere figures, one per ``adobe_bsdf.paper_figures``
                            scene, rendered by ``plot.sphere_grid`` at ``--size`` pixels and
                            ``--spp`` paths per pixel (96 and 64 by default).
@@ -34,12 +34,12 @@ THETA_O = 0.6  # radians, for the slices
 
 
 def lobes_figure(path: Path) -> None:
-    lobes = {"GGX conductor, gold, alpha 0.2": ab.lobes.asm_metal(
+    lobes = {"GGX conductor, gold, alpha 0.2": ab.materials.asm.asm_metal(
                  ab.materials.presets.metals["Au"]["f0"],
                  ab.materials.presets.metals["Au"]["tint"], 0.45),
              "rough glass eta 1.5, alpha 0.1": ab.lobes.Dielectric(1.5, 0.1),
              "ASM sheen r 0.4": ab.lobes.Sheen(1.0, 0.4),
-             "hazy gloss (seed 002)": ab.hazy.HazyGloss(0.04, 0.5, 4.0, 0.05)}
+             "hazy gloss [Barla2018]": ab.hazy.HazyGloss(0.04, 0.5, 4.0, 0.05)}
     fig = plt.figure(figsize=(4 * len(lobes), 4))
     for k, (label, lobe) in enumerate(lobes.items()):
         ax = fig.add_subplot(1, len(lobes), k + 1, projection="polar")

@@ -8,9 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import adobe_bsdf as ab
-from adobe_bsdf.layering import Layer
-from adobe_bsdf.lobes import coat_transmittance
+from adobe_bsdf.composition import Layer
 from adobe_bsdf.materials import AdobeStandardMaterial as ASM
+from adobe_bsdf.materials.asm import coat_transmittance
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation.chi2 import chi2_test
 from tests.tolerances import (
@@ -177,7 +177,7 @@ def test_reciprocity_without_the_layers(p):
 def test_layer_non_reciprocity_is_exactly_the_albedo_scaling_term():
     """f(wo, wi) - f(wi, wo) = c t(wo) t(wi) (E_top(wi) - E_top(wo)) f_base for reflection pairs:
     the only non-reciprocal term of the coat (its tint is symmetric)."""
-    coat = ab.lobes.asm_coat(1.5, 0.3)
+    coat = ab.materials.asm.asm_coat(1.5, 0.3)
     base = ab.lobes.Lambert((0.9, 0.5, 0.2))
     tint = lambda w: coat_transmittance((0.7, 0.8, 0.9), 1.5, w)  # noqa: E731
     layer = Layer(coat, base, 0.7, tint)
@@ -207,11 +207,11 @@ def test_coat_tint_is_beer_law_through_the_refracted_path():
 
 def test_base_index_under_the_coat_is_inverted_below_one():
     """Fig. 17: ior 1.3 under a 1.6 coat is 1.3/1.6 < 1, used as 1.6/1.3."""
-    np.testing.assert_allclose(ab.lobes.base_ior_under_coat(1.3, 1.6, 1.0), 1.6 / 1.3,
+    np.testing.assert_allclose(ab.materials.asm.base_ior_under_coat(1.3, 1.6, 1.0), 1.6 / 1.3,
                                rtol=EXACT)
-    np.testing.assert_allclose(ab.lobes.base_ior_under_coat(2.0, 1.6, 1.0), 2.0 / 1.6,
+    np.testing.assert_allclose(ab.materials.asm.base_ior_under_coat(2.0, 1.6, 1.0), 2.0 / 1.6,
                                rtol=EXACT)
-    np.testing.assert_allclose(ab.lobes.base_ior_under_coat(1.5, 1.6, 0.0), 1.5, rtol=EXACT)
+    np.testing.assert_allclose(ab.materials.asm.base_ior_under_coat(1.5, 1.6, 0.0), 1.5, rtol=EXACT)
     m = ASM(ior=1.3, coat_opacity=1.0, coat_ior=1.6)
     np.testing.assert_allclose(m.lobes["specular"].ior, 1.6 / 1.3, rtol=EXACT)
 
@@ -222,13 +222,13 @@ def test_anisotropic_coat_albedo_is_the_quadrature_of_its_visible_normals():
     direction-space cubature, within the 1e-3 the energy acceptance allows (the rule
     converges slowly at grazing angles, where the reflected direction's horizon crosses the
     square: 6.6e-4 at cos 0.1 here)."""
-    coat = ab.lobes.asm_coat(1.6, 0.6, 1.0, 0.2)
+    coat = ab.materials.asm.asm_coat(1.6, 0.6, 1.0, 0.2)
     np.testing.assert_allclose(coat._top_albedo(WO[:3]), coat.albedo(WO[:3], tol=1e-8),
                                atol=FURNACE_TABLE)
 
 
 def test_coat_reflection_albedo_table_matches_quadrature():
-    for lobe in (ab.lobes.asm_coat(1.6, 0.3, 0.0, 0.1),
+    for lobe in (ab.materials.asm.asm_coat(1.6, 0.3, 0.0, 0.1),
                  ab.lobes.DielectricReflection(1 / 1.5, 0.2)):
         np.testing.assert_allclose(lobe.albedo(WO[:3], method="table"),
                                    lobe.albedo(WO[:3], tol=1e-8), atol=2e-3)

@@ -31,7 +31,7 @@ def test_f82_tint_object_is_the_function():
 def test_white_metal_furnace(roughness):
     """Base and edge colour 1 (F = 1): single + Kulla–Conty multiple scattering is 1 within
     the tables' interpolation error (seed 000 Fig. 2; acceptance 1e-3)."""
-    lobe = ab.lobes.asm_metal(1.0, 1.0, roughness)
+    lobe = ab.materials.asm.asm_metal(1.0, 1.0, roughness)
     for c in (1.0, 0.5, 0.1, 0.02):
         np.testing.assert_allclose(lobe.albedo(_wo(c), tol=1e-8), 1.0, atol=FURNACE_TABLE)
 
@@ -40,7 +40,7 @@ def test_white_metal_furnace(roughness):
 @given(r=st.floats(0.0, 1.0), a=st.floats(0.0, 1.0), angle=st.floats(0.0, 1.0),
        pair=vs.direction_pairs("reflection"))
 def test_reciprocity(r, a, angle, pair):
-    lobe = ab.lobes.asm_metal(GOLD["f0"], GOLD["tint"], r, a, angle)
+    lobe = ab.materials.asm.asm_metal(GOLD["f0"], GOLD["tint"], r, a, angle)
     result = checks.reciprocity_error(lobe, *pair, rtol=RECIPROCITY_TABLE)
     assert result.passed, result
 
@@ -50,7 +50,7 @@ CASES = [(0.4, 0.6, 0.15, 0.8), (0.3, 1.0, 0.25, 0.4), (0.7, 0.3, 0.0, 0.1)]
 
 @pytest.mark.parametrize(("r", "a", "angle", "cos_theta"), CASES)
 def test_chi2(r, a, angle, cos_theta):
-    lobe = ab.lobes.asm_metal(GOLD["f0"], GOLD["tint"], r, a, angle)
+    lobe = ab.materials.asm.asm_metal(GOLD["f0"], GOLD["tint"], r, a, angle)
     result = chi2_test(lobe, _wo(cos_theta), n_samples=500_000, seed=CASES.index((r, a, angle,
                                                                                   cos_theta)),
                        alpha=CHI2_ALPHA, n_tests=len(CASES))
@@ -62,7 +62,7 @@ def test_extremes_are_finite_and_bad_input_is_named():
     wo, wi = ab.frame.normalize(rng.normal(size=(2, 500, 3)))
     for r in (0.0, 1.0):
         for a in (0.0, 1.0):
-            lobe = ab.lobes.asm_metal(0.0, 0.0, r, a, 1.0)
+            lobe = ab.materials.asm.asm_metal(0.0, 0.0, r, a, 1.0)
             s = lobe.sample(wo, rng.random((500, 3)))
             for v in (lobe.eval(wo, wi), lobe.pdf(wo, wi), s.weight, s.pdf):
                 assert np.all(np.isfinite(v))
@@ -72,4 +72,4 @@ def test_extremes_are_finite_and_bad_input_is_named():
                          ({"specular_edge_color": 1.1}, "specular_edge_color"),
                          ({"base_color": -0.1}, "base_color")):
         with pytest.raises(ValueError, match=name):
-            ab.lobes.asm_metal(**{"base_color": 0.5, **kwargs})
+            ab.materials.asm.asm_metal(**{"base_color": 0.5, **kwargs})

@@ -47,7 +47,7 @@ def test_machine_facts(smoke):
 
 def test_throughput_covers_every_case(smoke):
     import adobe_bsdf  # noqa: F401  (registers the cases)
-    from adobe_bsdf.registry import cases
+    from adobe_bsdf.validation.cases import cases
 
     _, results, _ = smoke
     tp = results["throughput"]

@@ -7,7 +7,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import adobe_bsdf as ab
-from adobe_bsdf.lobes import Dielectric, Dispersive, Rotated, asm_dielectric
+from adobe_bsdf.composition import Rotated
+from adobe_bsdf.lobes import Dielectric, Dispersive
+from adobe_bsdf.materials.asm import asm_dielectric
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation import strategies as vs
 from adobe_bsdf.validation.chi2 import chi2_test, suggest_grid
@@ -51,7 +53,7 @@ def test_dispersion_zero_is_the_dielectric_bit_for_bit():
         for a, b in zip(lobe.sample(wo, u, (0.3, 1.0, 0.1)), plain.sample(wo, u), strict=True):
             np.testing.assert_array_equal(a, b)
     rotated = asm_dielectric(1.5, 0.4, 0.6, 0.2, 0.0)
-    plain = Rotated(Dielectric(1.5, *ab.asm_alpha(0.4, 0.6)), 2 * np.pi * 0.2)
+    plain = Rotated(Dielectric(1.5, *ab.materials.asm.asm_alpha(0.4, 0.6)), 2 * np.pi * 0.2)
     np.testing.assert_array_equal(rotated.eval(wo, wi), plain.eval(wo, wi))
 
 

@@ -15,7 +15,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import adobe_bsdf as ab
-from adobe_bsdf.lobes import ASMDiffuse, ConductorMS, DielectricMS, asm_dielectric_base
+from adobe_bsdf.lobes import ConductorMS, DielectricMS
+from adobe_bsdf.materials.asm import ASMDiffuse, asm_dielectric_base
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation import strategies as vs
 from adobe_bsdf.validation.chi2 import chi2_test, suggest_grid

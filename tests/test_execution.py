@@ -10,7 +10,7 @@ import pytest
 
 import adobe_bsdf as ab
 from adobe_bsdf import config
-from adobe_bsdf.registry import cases
+from adobe_bsdf.validation.cases import cases
 
 N = 5000
 

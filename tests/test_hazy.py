@@ -374,7 +374,7 @@ def test_furnace_is_the_weighted_sum_of_independent_component_energies(r_c, beta
         eta = float(lobe.eta)
     else:
         mapped = hazy.HazyGloss(r_c, beta_h, extent, alpha)
-        lobe = ab.lobes.Sum(*(ab.lobes.Conductor.over(c.distribution)
+        lobe = ab.composition.Sum(*(ab.lobes.Conductor.over(c.distribution)
                               for c in mapped.components), weights=mapped.weights)
         eta = None
     m = (lobe if glass else mapped).mapping

@@ -119,7 +119,7 @@ def test_extremes_and_smooth_limit():
                                                   (0.5, 1.0, 1.25, 0.25), (0.3, 0.8, 0.4996, 0.09)])
 def test_asm_alpha_published(r, a, ax, ay):
     """seed 000 eqs. 9-10; values of published_values.md §5."""
-    assert ab.asm_alpha(r, a) == pytest.approx((ax, ay), abs=1e-12)
+    assert ab.materials.asm.asm_alpha(r, a) == pytest.approx((ax, ay), abs=1e-12)
 
 
 def test_bad_input():
@@ -130,4 +130,4 @@ def test_bad_input():
     with pytest.raises(ValueError, match="masking"):
         ab.GGX(0.1, masking="uncorrelated")
     with pytest.raises(ValueError, match="anisotropy"):
-        ab.asm_alpha(0.5, 1.5)
+        ab.materials.asm.asm_alpha(0.5, 1.5)

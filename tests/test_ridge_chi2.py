@@ -40,10 +40,11 @@ def _in_plane(phi, cos_theta):
 
 def _ridge_lobe(kind, angle):
     if kind == "metal":
-        return ab.lobes.asm_metal(GOLD["f0"], GOLD["tint"], roughness=0.0, anisotropy_level=1.0,
-                                  anisotropy_angle=angle)
-    phi = float(ab.lobes.anisotropy_rotation(angle))
-    return ab.lobes.Rotated(ab.lobes.Dielectric(1.5, *ab.microfacet.asm_alpha(0.0, 1.0)), phi)
+        return ab.materials.asm.asm_metal(GOLD["f0"], GOLD["tint"], roughness=0.0,
+                                          anisotropy_level=1.0, anisotropy_angle=angle)
+    phi = float(ab.materials.asm.anisotropy_rotation(angle))
+    alphas = ab.materials.asm.asm_alpha(0.0, 1.0)
+    return ab.composition.Rotated(ab.lobes.Dielectric(1.5, *alphas), phi)
 
 
 class _NoJacobian(Stretched):
@@ -128,7 +129,7 @@ def test_chi2_resolves_the_ridge_width():
     """Power at the ridge's scale: samples with alpha_y = 1e-8 against the pdf of
     alpha_y = 1.05e-8 (a difference of 5e-10 in slope) are rejected."""
     phi = np.pi / 3
-    sampler, density = (ab.lobes.Rotated(ab.lobes.Dielectric(1.5, 1.0, ay), phi)
+    sampler, density = (ab.composition.Rotated(ab.lobes.Dielectric(1.5, 1.0, ay), phi)
                         for ay in (1e-8, 1.05e-8))
     result = chi2_test(Stretched(_Mismatched(sampler, density), ridge_stretch(phi, FACTOR)),
                        _in_plane(phi, 0.8), n_samples=400_000, seed=1001)
@@ -176,7 +177,7 @@ def test_ridge_chi2(kind, angle, cos_theta):
     """sample against pdf at r = 0, a = 1 (p > 0.01 after Šidák over the file), and the sample
     weights against eval / pdf of the unstretched lobe."""
     lobe = _ridge_lobe(kind, angle)
-    phi = float(ab.lobes.anisotropy_rotation(angle))
+    phi = float(ab.materials.asm.anisotropy_rotation(angle))
     wo = _in_plane(phi, cos_theta)
     result = chi2_test(Stretched(lobe, ridge_stretch(phi, FACTOR)), wo, n_samples=400_000,
                        seed=RIDGE_CASES.index((kind, angle, cos_theta)), alpha=CHI2_ALPHA,
@@ -201,7 +202,7 @@ def test_ridge_chi2(kind, angle, cos_theta):
 def test_quadrature_albedo_warns_on_the_ridge():
     """The cubature cannot resolve a 1e-8 wide ridge; it says so (its guard samples' Monte-Carlo
     mean disagrees) instead of returning ~0 silently, and method="mc" sees the energy."""
-    lobe = ab.lobes.asm_metal(1.0, 1.0, roughness=0.0, anisotropy_level=1.0)  # white: F = 1
+    lobe = ab.materials.asm.asm_metal(1.0, 1.0, roughness=0.0, anisotropy_level=1.0)  # white: F = 1
     wo = _in_plane(0.0, 0.9)
     with pytest.warns(UserWarning, match="guard samples"):
         quad = lobe.albedo(wo)

@@ -6,7 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import adobe_bsdf as ab
-from adobe_bsdf.lobes import Conductor, Dielectric, Rotated
+from adobe_bsdf.composition import Rotated
+from adobe_bsdf.lobes import Conductor, Dielectric
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation import strategies as vs
 from adobe_bsdf.validation.chi2 import chi2_test
@@ -38,7 +39,7 @@ def test_full_turn_leaves_eval_unchanged():
     """Acceptance 4: rotation by 2 pi (and by the ASM parameter 1) changes eval by < 1e-12."""
     wo, wi = _pairs()
     for lobe in (Conductor(0.5, 0.1), Dielectric(1.5, 0.3, 0.05)):
-        for phi in (2 * np.pi, float(ab.lobes.anisotropy_rotation(1.0))):
+        for phi in (2 * np.pi, float(ab.materials.asm.anisotropy_rotation(1.0))):
             np.testing.assert_allclose(Rotated(lobe, phi).eval(wo, wi), lobe.eval(wo, wi),
                                        rtol=1e-12)
 
@@ -90,4 +91,4 @@ def test_bad_input():
     with pytest.raises(ValueError, match="lobe"):
         Rotated("conductor", 0.0)
     with pytest.raises(ValueError, match="anisotropy_angle"):
-        ab.lobes.anisotropy_rotation(1.5)
+        ab.materials.asm.anisotropy_rotation(1.5)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import adobe_bsdf as ab
-from adobe_bsdf.lobes import Conductor, Lambert, Sum
+from adobe_bsdf.composition import Sum
+from adobe_bsdf.lobes import Conductor, Lambert
 from tests import tolerances
 
 

@@ -11,13 +11,17 @@ from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
 from adobe_bsdf.microfacet import distribution
-from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Dielectric", "interface_energy_scale", "passes_through", "MIN_TRANSMISSION_WIDTH"]
 
 #: narrowest transmitted lobe (radians) kept as a lobe: a rough interface whose refraction
 #: is narrower passes light straight through (``passes_through``, docs/conventions.md)
 MIN_TRANSMISSION_WIDTH = 1e-12
+
+
+def _eta(eta) -> np.ndarray:
+    """A relative index n_below / n_above, validated: (0, inf)."""
+    return _params.real("eta", eta, 0.0, np.inf, lo_open=True)
 
 
 def passes_through(eta, microfacets) -> np.ndarray:
@@ -99,18 +103,16 @@ class Dielectric(Lobe):
 
     def __init__(self, eta, alpha_x, alpha_y=None, masking: str = "correlated",
                  model: str = "ggx"):
-        self._init(eta, distribution(model, alpha_x, alpha_y, masking))
+        self._init(_eta(eta), distribution(model, alpha_x, alpha_y, masking))
 
     @classmethod
     def over(cls, eta, microfacets) -> Dielectric:
         """The interface of index ``eta`` over ``microfacets``, any distribution of
         ``adobe_bsdf.microfacet``."""
-        lobe = object.__new__(cls)
-        lobe._init(eta, microfacets)
-        return lobe
+        return cls._new(_eta(eta), microfacets)
 
     def _init(self, eta, microfacets):
-        self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
+        self.eta = eta
         self.distribution = microfacets
         #: where the interface is a pass-through (``passes_through``)
         self.passes = passes_through(self.eta, microfacets)
@@ -345,24 +347,3 @@ def interface_energy_scale(eta, wo, wi):
     ``eta`` = n_below / n_above, 1 for reflection pairs (design.md)."""
     eta = np.where(wo[..., 2] < 0.0, 1.0 / eta, eta)
     return np.where(wo[..., 2] * wi[..., 2] < 0.0, eta * eta, 1.0)
-
-
-def _straight_through(wo):
-    return -np.asarray(wo, dtype=np.float64)
-
-
-register(
-    CheckCase("Dielectric eta=1.5 a=0.3", lambda: Dielectric(1.5, 0.3),
-              cos_theta_o=(1.0, 0.5, 0.05, -0.5)),
-    CheckCase("Dielectric eta=1/1.5 a=(0.5,0.2)", lambda: Dielectric(1 / 1.5, 0.5, 0.2),
-              cos_theta_o=(0.9, 0.3, -0.7)),
-    CheckCase("Dielectric Beckmann eta=1.5 a=(0.3,0.1)",
-              lambda: Dielectric(1.5, 0.3, 0.1, model="beckmann"),
-              cos_theta_o=(1.0, 0.5, 0.05, -0.5)),
-    CheckCase("Dielectric eta=1.01 a=0.5", lambda: Dielectric(1.01, 0.5),
-              cos_theta_o=(0.8, -0.8), width=0.01, peak=_straight_through),
-    CheckCase("Dielectric eta=1 a=0.5", lambda: Dielectric(1.0, 0.5), cos_theta_o=(0.8, -0.3),
-              expected_albedo=lambda wo: 1.0),
-    CheckCase("Dielectric eta=1.5 smooth", lambda: Dielectric(1.5, 0.0),
-              cos_theta_o=(0.8, -0.8), expected_albedo=lambda wo: 1.0),
-)

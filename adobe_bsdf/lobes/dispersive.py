@@ -6,11 +6,10 @@ import numpy as np
 
 from adobe_bsdf import _params, fresnel
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
+from adobe_bsdf.composition import choose, sample_where
 from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy_iors
 from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
-from adobe_bsdf.lobes.sum import choose, sample_where
 from adobe_bsdf.microfacet import distribution
-from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Dispersive", "channel_probabilities"]
 
@@ -87,14 +86,18 @@ class Dispersive(Lobe):
     def __init__(self, eta, dispersion, alpha_x, alpha_y=None, masking: str = "correlated",
                  model: str = "ggx", wavelengths_nm=RGB_WAVELENGTHS_NM):
         eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
-        self.dispersion = _params.real("dispersion", dispersion, 0.0, np.inf)
+        dispersion = _params.real("dispersion", dispersion, 0.0, np.inf)
         if np.shape(wavelengths_nm) != (3,):
             raise ValueError(f"wavelengths_nm = {wavelengths_nm!r}: allowed three wavelengths")
+        self._init(eta, dispersion, distribution(model, alpha_x, alpha_y, masking),
+                   wavelengths_nm)
+
+    def _init(self, eta, dispersion, microfacets, wavelengths_nm=RGB_WAVELENGTHS_NM):
+        self.dispersion = dispersion
         #: eta_c, ``(..., 3)``
-        self.eta = _channel_indices(eta, self.dispersion, wavelengths_nm)
-        self.distribution = distribution(model, alpha_x, alpha_y, masking)
-        self.channels = tuple(Dielectric.over(self.eta[..., c], self.distribution)
-                              for c in _CHANNELS)
+        self.eta = _channel_indices(eta, dispersion, wavelengths_nm)
+        self.distribution = microfacets
+        self.channels = tuple(Dielectric._new(self.eta[..., c], microfacets) for c in _CHANNELS)
         same = (self.eta[..., 0] == self.eta[..., 1]) & (self.eta[..., 1] == self.eta[..., 2])
         #: the one ``Dielectric`` all channels share where nothing disperses, else None
         self.single = self.channels[0] if np.all(same) else None
@@ -233,24 +236,3 @@ class Dispersive(Lobe):
         mass = (p * np.where(reflected, F, np.where(shared, P, 0.0))).sum(axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):
             return value / mass[..., None], mass
-
-
-def _check_cases():
-    spread = 0.05 * 0.9  # 2 alpha |1 - 1/eta| of the transmitted lobe at alpha = 0.05
-
-    def refracted(wo, eta=1.5):
-        cos_t = np.sqrt(1.0 - (1.0 - wo[2] ** 2) / eta**2)
-        return np.array([-wo[0] / eta, -wo[1] / eta, -cos_t])
-
-    return (
-        CheckCase("Dispersive eta=1.5 dispersion=1 a=0.3", lambda: Dispersive(1.5, 1.0, 0.3),
-                  cos_theta_o=(1.0, 0.5, 0.05, -0.5)),
-        CheckCase("Dispersive eta=1/1.5 dispersion=0.3 a=(0.3,0.1)",
-                  lambda: Dispersive(1 / 1.5, 0.3, 0.3, 0.1), cos_theta_o=(0.9, -0.6)),
-        CheckCase("Dispersive eta=1.5 dispersion=1 a=0.05",
-                  lambda: Dispersive(1.5, 1.0, 0.05), cos_theta_o=(0.9,), width=spread,
-                  peak=refracted),
-    )
-
-
-register(*_check_cases())

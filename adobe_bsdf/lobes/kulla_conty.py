@@ -24,8 +24,8 @@ import numpy as np
 
 from adobe_bsdf import _params, tables
 from adobe_bsdf.bsdf import Flags, luminance
-from adobe_bsdf.lobes.conductor import Conductor
-from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
+from adobe_bsdf.composition import Sum
+from adobe_bsdf.lobes.dielectric import Dielectric, _eta, interface_energy_scale
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
     conductor_energy,
@@ -34,10 +34,9 @@ from adobe_bsdf.lobes.energy_lookup import (
     sides,
     table_alpha,
 )
+from adobe_bsdf.lobes.reflection import Conductor, _fresnel_model
 from adobe_bsdf.lobes.separable import Separable
-from adobe_bsdf.lobes.sum import Sum
 from adobe_bsdf.microfacet import GGX
-from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScattering",
            "DielectricMS"]
@@ -67,9 +66,12 @@ class ConductorMultipleScattering(Separable):
     flags = Flags.REFLECTION | Flags.DIFFUSE
 
     def __init__(self, alpha_x, alpha_y=None, base_color=1.0):
-        self.distribution = GGX(alpha_x, alpha_y)
-        self.alpha = table_alpha(self.distribution)
-        self.base_color = _params.color("base_color", base_color, 0.0, 1.0)
+        self._init(GGX(alpha_x, alpha_y), _params.color("base_color", base_color, 0.0, 1.0))
+
+    def _init(self, distribution: GGX, base_color):
+        self.distribution = distribution
+        self.alpha = table_alpha(distribution)
+        self.base_color = base_color
         self._scale = (self.base_color ** 2
                        * _inverse_loss(tables.get("ggx_conductor_avg")(self.alpha)[..., 0])[
                            ..., None])
@@ -115,8 +117,13 @@ class ConductorMS(Sum):
     """
 
     def __init__(self, alpha_x, alpha_y=None, fresnel=None, base_color=1.0):
-        super().__init__(Conductor(alpha_x, alpha_y, fresnel),
-                         ConductorMultipleScattering(alpha_x, alpha_y, base_color))
+        self._init(GGX(alpha_x, alpha_y), _fresnel_model(fresnel),
+                   _params.color("base_color", base_color, 0.0, 1.0))
+
+    def _init(self, distribution: GGX, fresnel, base_color):
+        """Both terms over the one ``distribution``."""
+        super()._init((Conductor._new(distribution, fresnel),
+                       ConductorMultipleScattering._new(distribution, base_color)))
 
 
 class DielectricMultipleScattering(Separable):
@@ -141,8 +148,11 @@ class DielectricMultipleScattering(Separable):
     two_sided = True
 
     def __init__(self, eta, alpha_x, alpha_y=None):
-        self.eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
-        self.distribution = GGX(alpha_x, alpha_y)
+        self._init(_eta(eta), GGX(alpha_x, alpha_y))
+
+    def _init(self, eta, distribution: GGX):
+        self.eta = eta
+        self.distribution = distribution
         alpha = table_alpha(self.distribution)
         ratio = checked_ratio(self.eta)
         self._light_above = sides(self.eta)[0]
@@ -221,23 +231,9 @@ class DielectricMS(Sum):
     """
 
     def __init__(self, eta, alpha_x, alpha_y=None):
-        super().__init__(Dielectric(eta, alpha_x, alpha_y),
-                         DielectricMultipleScattering(eta, alpha_x, alpha_y))
+        self._init(_eta(eta), GGX(alpha_x, alpha_y))
 
-
-#: white-furnace bounds of the table-based terms: the tables' interpolation error
-#: (acceptance 1e-3; 2e-3 for the dielectric's R + T; measured in docs/tables.md)
-FURNACE_TOL, FURNACE_TOL_DIELECTRIC = 1e-3, 2e-3
-
-register(
-    CheckCase("ConductorMS a=0.5 F=1", lambda: ConductorMS(0.5), expected_albedo=lambda wo: 1.0,
-              furnace_tol=FURNACE_TOL, tags=("fast", "tables")),
-    CheckCase("ConductorMS a=(0.8,0.3) gold-ish", lambda: ConductorMS(
-        0.8, 0.3, base_color=(1.0, 0.71, 0.31)), tags=("fast", "tables")),
-    CheckCase("DielectricMS eta=1.5 a=0.5", lambda: DielectricMS(1.5, 0.5),
-              cos_theta_o=(0.9, 0.3, -0.5), expected_albedo=lambda wo: 1.0,
-              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=("fast", "tables")),
-    CheckCase("DielectricMS eta=1/1.33 a=0.3", lambda: DielectricMS(1 / 1.33, 0.3),
-              cos_theta_o=(0.7, -0.2, -0.8), expected_albedo=lambda wo: 1.0,
-              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=("fast", "tables")),
-)
+    def _init(self, eta, distribution: GGX):
+        """Both terms over the one ``distribution``."""
+        super()._init((Dielectric._new(eta, distribution),
+                       DielectricMultipleScattering._new(eta, distribution)))

@@ -6,7 +6,6 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
-from adobe_bsdf.registry import CheckCase, register
 from adobe_bsdf.sampling import cosine_hemisphere
 
 __all__ = ["Lambert"]
@@ -56,6 +55,3 @@ class Lambert(Lobe):
             pdf=np.where(ok, wi[..., 2] / np.pi, 0.0),
             flags=np.where(ok, int(self.flags), int(Flags.NONE)),
         )
-
-
-register(CheckCase("Lambert", lambda: Lambert(1.0), expected_albedo=lambda wo: 1.0))

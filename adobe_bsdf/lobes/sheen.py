@@ -29,7 +29,6 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import BSDFSample, Flags, SupportLobe, luminance
 from adobe_bsdf.lobes.energy_lookup import lookup
-from adobe_bsdf.registry import CheckCase, register
 
 __all__ = ["Sheen", "R_SIMILAR"]
 
@@ -38,6 +37,10 @@ __all__ = ["Sheen", "R_SIMILAR"]
 #: the structure of width mu ~ r below ~1e-4 (``docs/sheen.md``; error measured in
 #: ``docs/sheen_measured.md``)
 R_SIMILAR = 5e-3
+
+
+#: the defaults of c and p (validated arrays, for ``Sheen._new``)
+DEFAULT_C, DEFAULT_P = np.asarray(2.0), np.asarray(1.0)
 
 
 class Sheen(SupportLobe):
@@ -88,10 +91,13 @@ class Sheen(SupportLobe):
     flags = Flags.REFLECTION | Flags.GLOSSY
 
     def __init__(self, color, roughness, c=2.0, p=1.0):
-        self.color = _params.color("color", color, 0.0, np.inf)
-        self.roughness = _params.real("roughness", roughness, 0.0, 1.0)
-        self.c = _params.real("c", c, 0.0, np.inf)
-        self.p = _params.real("p", p, 0.0, np.inf, lo_open=True)
+        self._init(_params.color("color", color, 0.0, np.inf),
+                   _params.real("roughness", roughness, 0.0, 1.0),
+                   _params.real("c", c, 0.0, np.inf),
+                   _params.real("p", p, 0.0, np.inf, lo_open=True))
+
+    def _init(self, color, roughness, c=DEFAULT_C, p=DEFAULT_P):
+        self.color, self.roughness, self.c, self.p = color, roughness, c, p
         self._param_shape()  # the parameters must broadcast together
         self._scale = self.c[..., None] * self.color
 
@@ -222,10 +228,3 @@ class Sheen(SupportLobe):
         """luminance(c a) E: the table's albedo (of p = 1 whatever p is; any positive
         estimate keeps ``Sum`` exact)."""
         return luminance(self._scale) * self._table_E(wo, False)[0]
-
-
-register(
-    CheckCase("Sheen r=0.3 c=2", lambda: Sheen(1.0, 0.3)),
-    CheckCase("Sheen r=1 c=2", lambda: Sheen(1.0, 1.0)),
-    CheckCase("Sheen r=0.1 c=2 tinted", lambda: Sheen((0.9, 0.5, 0.2), 0.1)),
-)

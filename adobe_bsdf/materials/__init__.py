@@ -1,15 +1,24 @@
-"""Materials and their parameter presets.
+"""Materials: recipes that assemble lobes into one BSDF from a parameter specification.
 
 Public API
 ----------
-``presets``                        named parameter sets from the source papers.
-``AdobeStandardMaterial(**params)``  the whole ASM as one BSDF (seed 000; ``docs/asm.md``).
+``AdobeStandardMaterial(**params)``  the whole ASM as one BSDF [Kutz2021] (``docs/asm.md``);
+                                   its recipes in ``materials.asm``.
+``MATERIALS``                      the registry: ``{name: material class}``; each class's
+                                   ``parameters`` is its ``spec.ParameterSpec``.
 ``Material``                       base of the materials: a lobe tree with ``emission`` and
                                    ``medium``.
+``Parameter``, ``ParameterSpec``   parameter specifications (``materials.spec``).
+``presets``                        named parameter sets from the source papers.
 """
 
-from adobe_bsdf.materials import presets
+from adobe_bsdf.materials import asm, presets
 from adobe_bsdf.materials.asm import AdobeStandardMaterial
 from adobe_bsdf.materials.material import Material
+from adobe_bsdf.materials.spec import Parameter, ParameterSpec
 
-__all__ = ["presets", "AdobeStandardMaterial", "Material"]
+#: every material by name; ``MATERIALS[name].parameters`` is its parameter specification
+MATERIALS = {"AdobeStandardMaterial": AdobeStandardMaterial}
+
+__all__ = ["asm", "presets", "AdobeStandardMaterial", "Material", "MATERIALS", "Parameter",
+           "ParameterSpec"]

@@ -4,20 +4,35 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf.bsdf import Lobe, Wrapper
+from adobe_bsdf.bsdf import Lobe
+from adobe_bsdf.composition import Wrapper
 
 __all__ = ["Material"]
 
 
 class Material(Wrapper):
-    """One BSDF made of the lobe tree ``bsdf`` (built by a subclass), with the full protocol
-    forwarded to it, ``emission(wo)`` and ``medium()``.
+    """One BSDF made of the lobe tree ``bsdf``, with the whole protocol forwarded to it
+    (``composition.Wrapper``), ``emission(wo)`` and ``medium()``.
 
     ``lobes`` lists the leaf lobes the material was built with (zero-weight lobes are never
     built, so a material costs only what it uses).
+
+    Parameters
+    ----------
+    bsdf : Lobe
+        The material's lobe tree (a subclass builds it from its parameters).
+    lobes : dict of str to Lobe, optional
+        Its named leaf lobes.
     """
 
-    bsdf: Lobe
+    #: the material's inputs (``materials.spec.ParameterSpec``); None for a bare lobe tree
+    parameters = None
+
+    def __init__(self, bsdf: Lobe, lobes: dict | None = None):
+        if not isinstance(bsdf, Lobe):
+            raise ValueError(f"bsdf = {bsdf!r}: allowed a Lobe")
+        self.bsdf = bsdf
+        self.lobes = dict(lobes or {})
 
     @property
     def flags(self):
@@ -34,46 +49,3 @@ class Material(Wrapper):
     def medium(self):
         """The interior ``media.Medium``, or None for an opaque material."""
         return None
-
-    # -- forwarded protocol -------------------------------------------------------------------
-    def _param_shape(self):
-        return self.bsdf._param_shape()
-
-    def _eval(self, wo, wi):
-        return self.bsdf._eval(wo, wi)
-
-    def _pdf(self, wo, wi):
-        return self.bsdf._pdf(wo, wi)
-
-    def _eval_pdf(self, wo, wi):
-        return self.bsdf._eval_pdf(wo, wi)
-
-    def _pdf_t(self, wo, wi, throughput):
-        return self.bsdf._pdf_t(wo, wi, throughput)
-
-    def _eval_pdf_t(self, wo, wi, throughput):
-        return self.bsdf._eval_pdf_t(wo, wi, throughput)
-
-    def _sample(self, wo, u):
-        return self.bsdf._sample(wo, u)
-
-    def _sample_t(self, wo, u, throughput):
-        return self.bsdf._sample_t(wo, u, throughput)
-
-    def _delta_albedo(self, wo):
-        return self.bsdf._delta_albedo(wo)
-
-    def _energy_scale(self, wo, wi):
-        return self.bsdf._energy_scale(wo, wi)
-
-    def _energy_scale_rgb(self, wo, wi):
-        return self.bsdf._energy_scale_rgb(wo, wi)
-
-    def _albedo_table(self, wo, with_error=True):
-        return self.bsdf._albedo_table(wo, with_error)
-
-    def _albedo_quadrature(self, wo, tol):
-        return self.bsdf._albedo_quadrature(wo, tol)
-
-    def _sampling_weight(self, wo):
-        return self.bsdf._sampling_weight(wo)

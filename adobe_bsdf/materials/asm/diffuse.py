@@ -1,39 +1,33 @@
-"""The Adobe Standard Material's energy-conserving diffuse under its dielectric specular."""
+"""The Adobe Standard Material's energy-conserving diffuse under its dielectric specular
+[Kutz2021, §1.1 eq. 1]."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf import _params, fresnel, tables
+from adobe_bsdf import _params, tables
 from adobe_bsdf.bsdf import Flags, luminance
-from adobe_bsdf.lobes.conductor import Conductor
+from adobe_bsdf.composition import Sum
+from adobe_bsdf.fresnel import ExactDielectric
 from adobe_bsdf.lobes.energy_lookup import grey, lookup
+from adobe_bsdf.lobes.reflection import MicrofacetReflection
 from adobe_bsdf.lobes.separable import Separable
-from adobe_bsdf.lobes.sum import Sum
-from adobe_bsdf.microfacet import asm_alpha
-from adobe_bsdf.registry import CheckCase, register
+from adobe_bsdf.materials.asm.mapping import alphas, effective_roughness
+from adobe_bsdf.microfacet import GGX
 
-__all__ = ["ASMSpecular", "ASMDiffuse", "asm_dielectric_base", "table_roughness"]
-
-
-def _asm_parameters(roughness, ior):
-    roughness = _params.real("roughness", roughness, 0.0, 1.0)
-    ior = _params.real("ior", ior, 1.0, tables.IOR_MAX)
-    return roughness, ior
+__all__ = ["ASMSpecular", "ASMDiffuse", "asm_dielectric_base"]
 
 
-def table_roughness(roughness, anisotropy_level):
-    """The isotropic roughness at which the ASM tables stand in for an anisotropic lobe:
-    r with r^2 = sqrt(alpha_x alpha_y) (eqs. 9-10), capped at the tables' 1 (alpha_x reaches 2
-    at r = a = 1); r itself where the lobe is isotropic. An approximation for a > 0: its
-    energy error is measured in ``docs/asm_measured.md``."""
-    alpha_x, alpha_y = asm_alpha(roughness, anisotropy_level)
-    r_eff = np.minimum(np.sqrt(np.sqrt(alpha_x * alpha_y)), 1.0)
-    return np.where(np.asarray(anisotropy_level) == 0.0, roughness, r_eff)
+def _roughness(roughness):
+    return _params.real("roughness", roughness, 0.0, 1.0)
+
+
+def _ior(ior):
+    return _params.real("ior", ior, 1.0, tables.IOR_MAX)
 
 
 def _lobe_integral(roughness, ior, w, with_error=False):
-    """``(L, error)``: L(mu) of seed 000 eq. 1 (0 below the surface) and its node error
+    """``(L, error)``: L(mu) of [Kutz2021, §1.1 eq. 1] (0 below the surface) and its node error
     (None unless ``with_error``)."""
     up = w[..., 2] > 0.0
     L, error = lookup("asm_diffuse_L", np.maximum(w[..., 2], 0.0), with_error,
@@ -41,11 +35,12 @@ def _lobe_integral(roughness, ior, w, with_error=False):
     return np.where(up, L, 0.0), None if error is None else np.where(up, error, 0.0)
 
 
-class ASMSpecular(Conductor):
-    """The specular term S of seed ``000`` §1.1: GGX reflection with the exact dielectric
-    Fresnel of ``ior``, alpha_x = r^2 + a^4, alpha_y = r^2 (seed ``000`` eqs. 9-10). Its
-    albedo is the lobe integral L, tabulated as ``asm_diffuse_L`` (at ``table_roughness``
-    where anisotropic). Turn it with ``Rotated`` for the anisotropy angle.
+class ASMSpecular(MicrofacetReflection):
+    """The specular term S of [Kutz2021, §1.1]: GGX reflection with the exact dielectric
+    Fresnel of ``ior``, alpha_x = r^2 + a^4, alpha_y = r^2 [Kutz2021, §3 eqs. 9-10]. Its
+    albedo is the lobe integral L, tabulated as ``asm_diffuse_L`` (at
+    ``mapping.table_roughness`` where anisotropic). Turn it with ``Rotated`` for the
+    anisotropy angle.
 
     Parameters
     ----------
@@ -56,11 +51,13 @@ class ASMSpecular(Conductor):
     """
 
     def __init__(self, roughness, ior, anisotropy_level=0.0):
-        self.roughness, self.ior = _asm_parameters(roughness, ior)
-        self.anisotropy_level = _params.real("anisotropy_level", anisotropy_level, 0.0, 1.0)
-        super().__init__(*asm_alpha(self.roughness, self.anisotropy_level),
-                         fresnel=fresnel.ExactDielectric(self.ior))
-        self._table_r = table_roughness(self.roughness, self.anisotropy_level)
+        self._init(_roughness(roughness), _ior(ior),
+                   _params.real("anisotropy_level", anisotropy_level, 0.0, 1.0))
+
+    def _init(self, roughness, ior, anisotropy_level):
+        self.roughness, self.ior, self.anisotropy_level = roughness, ior, anisotropy_level
+        super()._init(GGX._new(*alphas(roughness, anisotropy_level)), ExactDielectric._new(ior))
+        self._table_r = effective_roughness(roughness, anisotropy_level)
 
     def __repr__(self) -> str:
         return (f"ASMSpecular(roughness={self.roughness}, ior={self.ior}, "
@@ -72,13 +69,13 @@ class ASMSpecular(Conductor):
 
 
 class ASMDiffuse(Separable):
-    """Energy-conserving diffuse of seed ``000`` §1.1 eq. 1 (Ashikhmin, Premože & Shirley 2000):
+    """Energy-conserving diffuse of [Kutz2021, §1.1 eq. 1] after [Ashikhmin2000]:
 
         D(wi, wo) = rho / pi (1 - L(wi)) (1 - L(wo)) / (1 - T)
 
     L(w) = int S(w, w') dsigma_perp(w') is the albedo of ``ASMSpecular`` and
     T = (1/pi) int L dsigma_perp its average. Reciprocal, separable, and with rho = 1 the sum
-    D + S scatters all energy (the white furnace of seed ``000`` Fig. 2). T is the exact
+    D + S scatters all energy (the white furnace of [Kutz2021, Fig. 2]). T is the exact
     average of the interpolated L (``tables``), so that property holds up to L's
     interpolation error. Cosine-sampled; one-sided.
 
@@ -95,8 +92,10 @@ class ASMDiffuse(Separable):
     flags = Flags.REFLECTION | Flags.DIFFUSE
 
     def __init__(self, albedo, roughness, ior):
-        self.reflectance = _params.color("albedo", albedo, 0.0, 1.0)
-        self.roughness, self.ior = _asm_parameters(roughness, ior)
+        self._init(_params.color("albedo", albedo, 0.0, 1.0), _roughness(roughness), _ior(ior))
+
+    def _init(self, reflectance, roughness, ior):
+        self.reflectance, self.roughness, self.ior = reflectance, roughness, ior
         T = tables.get("asm_diffuse_T")(self.roughness, self.ior)[..., 0]
         self._scale = self.reflectance / (np.pi * (1.0 - T))[..., None]
 
@@ -126,18 +125,12 @@ class ASMDiffuse(Separable):
 
 
 def asm_dielectric_base(albedo, roughness, ior) -> Sum:
-    """``ASMSpecular`` + ``ASMDiffuse``: the ASM dielectric base (seed ``000`` §1.1); with
+    """``ASMSpecular`` + ``ASMDiffuse``: the ASM dielectric base [Kutz2021, §1.1]; with
     albedo 1 it scatters all energy at every angle."""
-    return Sum(ASMSpecular(roughness, ior), ASMDiffuse(albedo, roughness, ior))
+    albedo = _params.color("albedo", albedo, 0.0, 1.0)
+    roughness, ior = _roughness(roughness), _ior(ior)
+    return Sum._new((ASMSpecular._new(roughness, ior, _ZERO),
+                     ASMDiffuse._new(albedo, roughness, ior)))
 
 
-register(
-    CheckCase("ASMDiffuse r=0.3 ior=1.5", lambda: ASMDiffuse((0.9, 0.5, 0.2), 0.3, 1.5),
-              tags=("fast", "tables")),
-    CheckCase("ASM base white r=0.5 ior=1.5", lambda: asm_dielectric_base(1.0, 0.5, 1.5),
-              expected_albedo=lambda wo: 1.0, furnace_tol=1e-3,  # tables' interpolation error
-              tags=("fast", "tables")),
-    CheckCase("ASM base r=0.05 ior=2.5", lambda: asm_dielectric_base(0.5, 0.05, 2.5),
-              width=0.01, peak=lambda wo: np.array([-wo[0], -wo[1], wo[2]]),
-              tags=("fast", "tables")),
-)
+_ZERO = np.asarray(0.0)

@@ -1,0 +1,522 @@
+"""Operators that combine lobes into one lobe: every one follows the lobe protocol, so the
+result can be combined again.
+
+Public API
+----------
+``Sum(*lobes, weights=None)``      f = sum_k w_k f_k, sampled as a mixture (one interface).
+``Layer(top, base, coverage=1, transmittance=None)``
+                                   ``top`` over ``base`` by albedo scaling (below).
+``Rotated(lobe, phi)``             ``lobe`` turned about the normal.
+``Wrapper``                        base of a lobe built around one inner lobe: forwards every
+                                   hook of ``bsdf.HOOKS`` to it (``Rotated``, materials).
+``choose(P, u)``                   pick a component by the first uniform, re-used inside it.
+``sample_where(lobe, wo, u, throughput, chosen)``
+                                   sample one component for the elements that chose it.
+
+Layering
+--------
+This is the non-reciprocal albedo scaling of OpenPBR (seed 003, section Layering, the
+"general albedo scaling" equation, with a coverage c as its v1.1.1 writes it) and of the ASM's
+sheen and coat (seed 000 §6-7): the energy the top layer reflects, E_top(wo), is taken from
+what reaches the base, and t(w) is a one-way transmittance of the top layer's medium (the
+coat's absorption). With E_top, E_base <= 1 and t <= 1,
+
+    E(wo) = c E_top + (1 - c) E_base + c t(wo) (1 - E_top) int t(wi) f_base |cos| <= 1,
+
+and with a white base and t = 1 the layer keeps all the energy (the white furnace).
+
+Why not the reciprocal form ``C (1 - E_top(wi)) (1 - E_top(wo)) f_base`` (seed 003)? Its
+normalisation C is an integral of the base BSDF weighted by 1 - E_top, a new table for every
+base: the ASM's "albedo scaling technique" and OpenPBR both use the form above. Its
+non-reciprocity, f(wo, wi) - f(wi, wo) = c t t (E_top(wi) - E_top(wo)) f_base, is measured in
+``docs/asm_measured.md``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from adobe_bsdf import _params
+from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
+
+__all__ = ["Sum", "Layer", "Rotated", "Wrapper", "choose", "sample_where"]
+
+#: full coverage, the default of ``Layer``
+_FULL = np.asarray(1.0)
+
+
+class Wrapper(Lobe):
+    """A lobe built around another, ``_inner()``, whose interface it shares; every hook of
+    ``bsdf.HOOKS`` is forwarded to the inner lobe, directions through ``_to_inner`` and
+    samples back through ``_from_inner`` (both the identity here; ``Rotated`` turns them).
+    A subclass overrides only the hooks that differ."""
+
+    def _inner(self) -> Lobe:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _to_inner(self, w):
+        """A direction of this lobe's frame in the inner lobe's frame."""
+        return w
+
+    def _from_inner(self, sample: BSDFSample) -> BSDFSample:
+        """A sample of the inner lobe in this lobe's frame."""
+        return sample
+
+    @property
+    def eta(self):
+        """The inner lobe's interface index (generalized reciprocity), or None."""
+        return self._inner().eta
+
+    @property
+    def eta_per_channel(self) -> bool:
+        """Whether ``eta`` has one index per colour channel (``Dispersive``)."""
+        return self._inner().eta_per_channel
+
+
+def _forwarding(hook: Hook):
+    """The ``Wrapper`` method that forwards ``hook`` to the inner lobe."""
+    turned = tuple(i for i, arg in enumerate(hook.args) if arg in ("wo", "wi"))
+
+    def forward(self, *args, **kwargs):
+        if turned:
+            args = tuple(self._to_inner(a) if i in turned else a for i, a in enumerate(args))
+        result = getattr(self._inner(), hook.name)(*args, **kwargs)
+        return self._from_inner(result) if hook.returns == "sample" else result
+
+    forward.__name__ = forward.__qualname__ = hook.name
+    forward.__doc__ = f"Forwarded to the inner lobe: {hook.contract}."
+    return forward
+
+
+for _hook in HOOKS:
+    setattr(Wrapper, _hook.name, _forwarding(_hook))
+del _hook
+
+
+class Sum(Lobe):
+    """f = sum_k w_k f_k of lobes that share one surface (and, for transmission, one
+    interface).
+
+    Parameters
+    ----------
+    *components : Lobe
+    weights : sequence of colours in [0, inf), optional
+        One weight w_k per component (scalar or ``(..., 3)``, a texture allowed); default 1.
+        A component whose weight is 0 everywhere is dropped at construction: it is never
+        evaluated or sampled (``components`` holds the active ones only).
+
+    Notes
+    -----
+    Sampling picks component k with probability P_k(wo) proportional to
+    lum(w_k) ``_sampling_weight_k(wo)`` (an albedo estimate), samples it, and weighs a
+    non-delta sample by the whole sum, weight = f |cos| / pdf with pdf = sum_k P_k pdf_k (the
+    one-sample balance heuristic, Veach 1997 §9.2.4), so ``pdf`` and ``sample`` agree
+    whatever the estimates. A delta sample of component k has probability P_k times its
+    own. The first uniform is re-used inside the chosen interval, so components that branch
+    on it (the dielectric's reflect/refract choice) stay stratified. Where a component's
+    parameters are scalars, it is sampled only for the elements that chose it.
+    """
+
+    def __init__(self, *components: Lobe, weights=None):
+        if not all(isinstance(c, Lobe) for c in components):
+            raise ValueError(f"components = {components!r}: a Sum takes lobes")
+        if weights is None:
+            weights = [None] * len(components)
+        elif len(weights) != len(components):
+            raise ValueError(f"weights has {len(weights)} entries for {len(components)} "
+                             "components; allowed: one weight per component")
+        else:
+            weights = [_params.color("weights", w, 0.0, np.inf) for w in weights]
+        self._init(components, weights)
+
+    def _init(self, components, weights=None):
+        """``components`` and their validated colour weights (None: all 1)."""
+        if weights is None:
+            weights = [None] * len(components)
+        active = [(c, w) for c, w in zip(components, weights, strict=True)
+                  if w is None or np.any(w != 0.0)]
+        self.components = tuple(c for c, _ in active)
+        #: the active components' weights (None: 1)
+        self.weights = tuple(w for _, w in active)
+        flags = Flags.NONE
+        for c in self.components:
+            flags |= c.flags
+        self.flags = flags
+
+    def __repr__(self) -> str:
+        parts = [repr(c) if w is None else f"{w!r} * {c!r}"
+                 for c, w in zip(self.components, self.weights, strict=True)]
+        return f"{type(self).__name__}({', '.join(parts)})"
+
+    def _param_shape(self):
+        shapes = [c._param_shape() for c in self.components]
+        if any(s is None for s in shapes):
+            return None
+        shapes += [w.shape[:-1] for w in self.weights if w is not None]
+        return np.broadcast_shapes(*shapes)
+
+    def _terms(self, method, *args):
+        """Weighted per-component results of ``method`` (a colour-valued private method)."""
+        for c, w in zip(self.components, self.weights, strict=True):
+            value = getattr(c, method)(*args)
+            yield value if w is None else value * w
+
+    @staticmethod
+    def _total(parts, shape):
+        total = None
+        for p in parts:
+            total = p if total is None else total + p
+        return np.zeros(shape) if total is None else total
+
+    def _probabilities(self, wo):
+        w = [c._sampling_weight(wo) * (1.0 if k is None else luminance(k))
+             for c, k in zip(self.components, self.weights, strict=True)]
+        w = np.stack(np.broadcast_arrays(*w))
+        total = w.sum(axis=0)
+        return np.where(total > 0.0, w / np.where(total > 0.0, total, 1.0), 1.0 / len(w))
+
+    def _batch(self, wo, wi):
+        return np.broadcast_shapes(wo.shape, wi.shape)[:-1]
+
+    def _eval(self, wo, wi):
+        return self._total(self._terms("_eval", wo, wi), self._batch(wo, wi) + (3,))
+
+    def _pdf(self, wo, wi):
+        return self._pdf_t(wo, wi, None)
+
+    def _pdf_t(self, wo, wi, throughput):
+        if not self.components:
+            return np.zeros(self._batch(wo, wi))
+        P = self._probabilities(wo)
+        return sum(P[k] * c._pdf_t(wo, wi, throughput) for k, c in enumerate(self.components))
+
+    def _eval_pdf(self, wo, wi):
+        return self._eval_pdf_t(wo, wi, None)
+
+    def _eval_pdf_t(self, wo, wi, throughput):
+        if not self.components:
+            batch = self._batch(wo, wi)
+            return np.zeros(batch + (3,)), np.zeros(batch)
+        P = self._probabilities(wo)
+        f, pdf = None, None
+        for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
+            fk, pk = c._eval_pdf_t(wo, wi, throughput)
+            fk = fk if w is None else fk * w
+            f = fk if f is None else f + fk
+            pdf = P[k] * pk if pdf is None else pdf + P[k] * pk
+        return f, pdf
+
+    def _sample(self, wo, u):
+        return self._sample_t(wo, u, None)
+
+    def _sample_t(self, wo, u, throughput):
+        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
+        if not self.components:
+            return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
+                              np.full(batch, int(Flags.NONE)))
+        wo = np.broadcast_to(wo, batch + (3,))  # one wo for a batch of uniforms
+        k, Pk, u = choose(self._probabilities(wo), u)
+        wi = np.zeros(batch + (3,))
+        weight = np.zeros(batch + (3,))
+        pdf = np.zeros(batch)
+        flags = np.full(batch, int(Flags.NONE))
+        for j, w in enumerate(self.weights):
+            chosen = k == j
+            s = sample_where(self.components[j], wo, u, throughput, chosen)
+            sw = s.weight if w is None else s.weight * w
+            wi = np.where(chosen[..., None], s.wi, wi)
+            weight = np.where(chosen[..., None], sw, weight)
+            pdf = np.where(chosen, s.pdf, pdf)
+            flags = np.where(chosen, s.flags, flags)
+        delta = (flags & int(Flags.DELTA)) != 0
+        f, mix_pdf = self._eval_pdf_t(wo, wi, throughput)
+        smooth_weight = f * np.abs(wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf, 1.0)[..., None]
+        weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None],
+                          np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
+        return finished_sample(wi, weight, np.where(delta, Pk * pdf, mix_pdf), flags)
+
+    def _delta_albedo(self, wo):
+        return self._total(self._terms("_delta_albedo", wo), wo.shape[:-1] + (3,))
+
+    @property
+    def eta(self):
+        """The shared interface's index (for generalized reciprocity): the transmitting
+        component's, else None."""
+        return self._interface().eta
+
+    @property
+    def eta_per_channel(self) -> bool:
+        return self._interface().eta_per_channel
+
+    def _interface(self) -> Lobe:
+        """The component whose interface sets the energy scale: the first that transmits
+        (the components share one interface), else any."""
+        for c in self.components:
+            if c.flags & Flags.TRANSMISSION:
+                return c
+        return self.components[0] if self.components else Lobe()
+
+    def _energy_scale(self, wo, wi):
+        return self._interface()._energy_scale(wo, wi)
+
+    def _energy_scale_rgb(self, wo, wi):
+        return self._interface()._energy_scale_rgb(wo, wi)
+
+    def _albedo_table(self, wo, with_error=True):
+        values, errors = [], []
+        for c, w in zip(self.components, self.weights, strict=True):
+            value, error = c._albedo_table(wo, with_error)
+            values.append(value if w is None else value * w)
+            errors.append(error if w is None or error is None else error * w)
+        shape = wo.shape[:-1] + (3,)
+        return (self._total(values, shape),
+                self._total(errors, shape) if with_error else None)
+
+    def _sampling_weight(self, wo):
+        if not self.components:
+            return np.zeros(wo.shape[:-1])
+        return sum(c._sampling_weight(wo) * (1.0 if w is None else luminance(w))
+                   for c, w in zip(self.components, self.weights, strict=True))
+
+
+class Layer(Lobe):
+    """``top`` over ``base`` by albedo scaling (module docstring).
+
+    Parameters
+    ----------
+    top, base : Lobe
+        E_top(wo) is the top's ``_top_albedo`` on every call: its albedo tables, or where
+        they would underestimate (an anisotropic coat), a quadrature.
+    coverage : array_like in [0, 1]
+        c, how much of the surface the top layer covers (the ASM coat's opacity).
+    transmittance : callable or None
+        ``transmittance(w) -> (..., 3)``, t(w) in [0, 1]; None is 1.
+
+    Notes
+    -----
+    Sampling picks the top with probability proportional to c lum(E_top(wo)) and the base
+    with lum(W(wo, wo')) times the base's albedo estimate (wo' the mirror of wo), and weighs
+    non-delta samples by the one-sample balance heuristic, as ``Sum``. The base's delta
+    branches (a smooth interface) carry W at their own direction; their closed-form energy
+    (``albedo``) uses t(wi) = t(wo), exact for mirror reflection. The table albedo makes the
+    same approximation for the base's whole lobe; it is exact where t = 1.
+    """
+
+    def __init__(self, top: Lobe, base: Lobe, coverage=1.0, transmittance=None):
+        if not isinstance(top, Lobe) or not isinstance(base, Lobe):
+            raise ValueError(f"top = {top!r}, base = {base!r}: a Layer takes two lobes")
+        if transmittance is not None and not callable(transmittance):
+            raise ValueError(f"transmittance = {transmittance!r}: allowed None or a callable")
+        self._init(top, base, _params.real("coverage", coverage, 0.0, 1.0), transmittance)
+
+    def _init(self, top, base, coverage=_FULL, transmittance=None):
+        self.top, self.base = top, base
+        self.coverage = coverage
+        self.transmittance = transmittance
+        self.flags = top.flags | base.flags
+
+    def __repr__(self) -> str:
+        return f"Layer({self.top!r}, {self.base!r}, coverage={self.coverage!r})"
+
+    @property
+    def eta(self):
+        """The base's interface index: the top reflects only."""
+        return self.base.eta
+
+    @property
+    def eta_per_channel(self) -> bool:
+        return self.base.eta_per_channel
+
+    def exit_weight(self, wo):
+        """(1 - c) + c t(wo) (1 - E_top(wo)) ``(..., 3)``: the share of light leaving the base
+        towards ``wo`` that passes the top layer once (emission from below it)."""
+        return (1.0 - self.coverage)[..., None] + self._scaled(wo)[0]
+
+    def _param_shape(self):
+        shapes = (self.top._param_shape(), self.base._param_shape())
+        if any(s is None for s in shapes) or self.transmittance is not None:
+            return None
+        return np.broadcast_shapes(*shapes, self.coverage.shape)
+
+    # -- the weights ------------------------------------------------------------------------
+    def _t(self, w):
+        return 1.0 if self.transmittance is None else self.transmittance(w)
+
+    def _scaled(self, wo):
+        """c t(wo) (1 - E_top(wo)) ``(..., 3)`` and E_top(wo)."""
+        E_top = self.top._top_albedo(wo)
+        return self.coverage[..., None] * self._t(wo) * (1.0 - E_top), E_top
+
+    def _weight(self, wo, wi, scaled):
+        """W(wo, wi) = (1 - c) + c t(wo) t(wi) (1 - E_top(wo)), ``(..., 3)``."""
+        return (1.0 - self.coverage)[..., None] + scaled * self._t(wi)
+
+    def _probabilities(self, wo, scaled, E_top):
+        top = np.asarray(self.coverage * luminance(E_top))
+        base = luminance(self._weight(wo, wo, scaled)) * self.base._sampling_weight(wo)
+        top, base = np.broadcast_arrays(top, base)
+        total = top + base
+        P_top = np.where(total > 0.0, top / np.where(total > 0.0, total, 1.0), 0.5)
+        return np.stack([P_top, 1.0 - P_top])
+
+    # -- protocol ---------------------------------------------------------------------------
+    def _eval(self, wo, wi):
+        scaled, _ = self._scaled(wo)
+        return (self.coverage[..., None] * self.top._eval(wo, wi)
+                + self._weight(wo, wi, scaled) * self.base._eval(wo, wi))
+
+    def _pdf(self, wo, wi):
+        return self._pdf_t(wo, wi, None)
+
+    def _eval_pdf(self, wo, wi):
+        return self._eval_pdf_t(wo, wi, None)
+
+    def _pdf_t(self, wo, wi, throughput):
+        P = self._probabilities(wo, *self._scaled(wo))
+        return (P[0] * self.top._pdf_t(wo, wi, throughput)
+                + P[1] * self.base._pdf_t(wo, wi, throughput))
+
+    def _eval_pdf_t(self, wo, wi, throughput, scaled_top=None):
+        """(f, pdf); ``scaled_top`` is ``_scaled(wo)`` where the caller has it already (the
+        top's albedo can be a quadrature per direction: an anisotropic coat)."""
+        scaled, E_top = self._scaled(wo) if scaled_top is None else scaled_top
+        P = self._probabilities(wo, scaled, E_top)
+        f_top, p_top = self.top._eval_pdf_t(wo, wi, throughput)
+        f_base, p_base = self.base._eval_pdf_t(wo, wi, throughput)
+        f = self.coverage[..., None] * f_top + self._weight(wo, wi, scaled) * f_base
+        return f, P[0] * p_top + P[1] * p_base
+
+    def _sample(self, wo, u):
+        return self._sample_t(wo, u, None)
+
+    def _sample_t(self, wo, u, throughput):
+        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
+        wo = np.broadcast_to(wo, batch + (3,))
+        scaled, E_top = self._scaled(wo)
+        k, P_k, u = choose(self._probabilities(wo, scaled, E_top), u)
+        s_top = sample_where(self.top, wo, u, throughput, k == 0)
+        s_base = sample_where(self.base, wo, u, throughput, k == 1)
+        top = (k == 0)[..., None]
+        wi = np.where(top, s_top.wi, s_base.wi)
+        flags = np.where(k == 0, s_top.flags, s_base.flags)
+        delta = (flags & int(Flags.DELTA)) != 0
+        f, pdf = self._eval_pdf_t(wo, wi, throughput, (scaled, E_top))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            weight = f * np.abs(wi[..., 2:3]) / pdf[..., None]
+            own = np.where(top, self.coverage[..., None] * s_top.weight,
+                           self._weight(wo, wi, scaled) * s_base.weight) / P_k[..., None]
+        weight = np.where(delta[..., None], own, weight)
+        pdf = np.where(delta, P_k * np.where(k == 0, s_top.pdf, s_base.pdf), pdf)
+        return finished_sample(wi, weight, pdf, flags)
+
+    def _delta_albedo(self, wo):
+        scaled, _ = self._scaled(wo)
+        return (self.coverage[..., None] * self.top._delta_albedo(wo)
+                + self._weight(wo, wo, scaled) * self.base._delta_albedo(wo))
+
+    def _albedo_table(self, wo, with_error=True):
+        E_top, err_top = self.top._albedo_table(wo, with_error)
+        E_base, err_base = self.base._albedo_table(wo, with_error)
+        c = self.coverage[..., None]
+        W = (1.0 - c) + c * self._t(wo) ** 2 * (1.0 - E_top)
+        value = c * E_top + W * E_base
+        # |d value / d E_top| = c |1 - t^2 E_base| <= c
+        return value, (c * err_top + W * err_base) if with_error else None
+
+    def _sampling_weight(self, wo):
+        scaled, E_top = self._scaled(wo)
+        return (self.coverage * luminance(E_top)
+                + luminance(self._weight(wo, wo, scaled)) * self.base._sampling_weight(wo))
+
+    def _energy_scale(self, wo, wi):
+        return self.base._energy_scale(wo, wi)  # the top reflects only
+
+    def _energy_scale_rgb(self, wo, wi):
+        return self.base._energy_scale_rgb(wo, wi)
+
+
+class Rotated(Wrapper):
+    """``lobe`` with its tangent x axis (alpha_x) turned by ``phi`` about the normal.
+
+    f(wo, wi) = lobe.f(R(-phi) wo, R(-phi) wi), with R(t) the rotation by t about z; samples
+    are drawn in the lobe's frame and turned back by R(phi). A rotation about the normal keeps
+    cosines, solid angles and the side of every direction, so the pdf, the sample weights,
+    the albedo and (generalized) reciprocity carry over unchanged.
+
+    Parameters
+    ----------
+    lobe : Lobe
+    phi : array_like, radians (any real; ``materials.asm.anisotropy_rotation`` maps the ASM's
+        anisotropy angle).
+    """
+
+    def __init__(self, lobe: Lobe, phi):
+        if not isinstance(lobe, Lobe):
+            raise ValueError(f"lobe = {lobe!r}: allowed a Lobe")
+        self._init(lobe, _params.real("phi", phi))
+
+    def _init(self, lobe, phi):
+        self.lobe = lobe
+        self.phi = phi
+        self.flags = lobe.flags
+        self._cos, self._sin = np.cos(self.phi), np.sin(self.phi)
+
+    def __repr__(self) -> str:
+        return f"Rotated({self.lobe!r}, phi={self.phi})"
+
+    def _inner(self):
+        return self.lobe
+
+    def _param_shape(self):
+        shape = self.lobe._param_shape()
+        return None if shape is None else np.broadcast_shapes(shape, self.phi.shape)
+
+    def _turn(self, w, sign):
+        """R(sign phi) w."""
+        c, s = self._cos, sign * self._sin
+        x, y = w[..., 0], w[..., 1]
+        return np.stack(np.broadcast_arrays(c * x - s * y, s * x + c * y, w[..., 2]), axis=-1)
+
+    def _to_inner(self, w):
+        return self._turn(w, -1.0)
+
+    def _from_inner(self, sample):
+        return BSDFSample(self._turn(sample.wi, 1.0), sample.weight, sample.pdf, sample.flags)
+
+
+def choose(P, u):
+    """Pick component k with probability ``P[k]`` (``P`` (K, ...), summing to 1 over its
+    first axis) by the first uniform of ``u`` (..., 3), and re-use that uniform inside the
+    chosen interval (so a component that branches on it stays stratified).
+
+    Returns ``(k (...), P_k (...), u (..., 3))``, broadcast over ``P.shape[1:]`` and
+    ``u.shape[:-1]``.
+    """
+    batch = np.broadcast_shapes(P.shape[1:], u.shape[:-1])
+    P = np.broadcast_to(P, P.shape[:1] + batch)
+    cdf = np.cumsum(P, axis=0)
+    k = np.minimum((u[..., 0] >= cdf[:-1]).sum(axis=0), len(P) - 1)
+    lo = np.where(k > 0, np.take_along_axis(cdf, np.maximum(k - 1, 0)[None], 0)[0], 0.0)
+    Pk = np.take_along_axis(P, k[None], 0)[0]
+    u0 = np.clip((u[..., 0] - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0, np.nextafter(1.0, 0))
+    u = np.concatenate([u0[..., None], np.broadcast_to(u[..., 1:], batch + (2,))], axis=-1)
+    return k, Pk, u
+
+
+def sample_where(lobe: Lobe, wo, u, throughput, chosen) -> BSDFSample:
+    """``lobe._sample_t(wo, u, throughput)`` computed for the elements ``chosen`` only (for
+    all of them if the lobe's parameters are not scalars or the batch is not flat), scattered
+    into full-size arrays (zero elsewhere)."""
+    if lobe._param_shape() != () or wo.ndim != 2 or u.ndim != 2:
+        return lobe._sample_t(wo, u, throughput)
+    index = np.flatnonzero(chosen)
+    if throughput is not None:
+        throughput = np.broadcast_to(throughput, u.shape)[index]
+    part = lobe._sample_t(np.broadcast_to(wo, u.shape)[index], u[index], throughput)
+    n = u.shape[0]
+    full = []
+    for field in part:
+        out = np.zeros((n,) + field.shape[1:], dtype=field.dtype)
+        out[index] = field
+        full.append(out)
+    return BSDFSample(*full)
