@@ -27,6 +27,7 @@ from adobe_bsdf import (
     spectral,
     tables,
 )
+from adobe_bsdf._version import __version__
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann
@@ -34,5 +35,4 @@ from adobe_bsdf.microfacet import GGX, Beckmann
 __all__ = ["composition", "config", "dispersion", "frame", "fresnel", "haze", "hazy", "lobes",
            "materials", "media", "microfacet", "paper_figures", "plot", "quadrature", "render",
            "spectral", "tables",
-           "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann"]
-__version__ = "0.1.0"
+           "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "__version__"]

@@ -83,9 +83,18 @@ def cauchy_iors(ior, dispersion, wavelengths_nm=RGB_WAVELENGTHS_NM):
     -------
     ndarray (..., len(wavelengths_nm)). Indices of 1 stay 1 (B = 0 when n_d = 1).
     """
-    n_d = _params.real("ior", ior, 0.0, np.inf, lo_open=True)
-    d = _params.real("dispersion", dispersion, 0.0, np.inf)
-    lam = _params.real("wavelengths_nm", wavelengths_nm, 0.0, np.inf, lo_open=True)
+    return cauchy(_params.real("ior", ior, 0.0, np.inf, lo_open=True),
+                  _params.real("dispersion", dispersion, 0.0, np.inf),
+                  wavelengths(wavelengths_nm))
+
+
+def wavelengths(wavelengths_nm) -> np.ndarray:
+    """Channel wavelengths (nm), validated: (0, inf)."""
+    return _params.real("wavelengths_nm", wavelengths_nm, 0.0, np.inf, lo_open=True)
+
+
+def cauchy(n_d, d, lam) -> np.ndarray:
+    """``cauchy_iors`` of validated arrays."""
     f, c, line_d = FRAUNHOFER_NM["F"], FRAUNHOFER_NM["C"], FRAUNHOFER_NM["d"]
     B = (n_d - 1.0) * (d / 20.0) / (f**-2 - c**-2)  # (n_d - 1) / V_d over the F-C span
     B = np.asarray(B)[..., None]

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
 from adobe_bsdf.microfacet import distribution
@@ -307,15 +307,9 @@ class Dielectric(Lobe):
             weight = np.where(passes, self._pass_energy(ox, oy, zo) / (eta * eta), weight)
             pdf = np.where(passes, 1.0, pdf)
             flags = np.where(passes, int(Flags.TRANSMISSION | Flags.DELTA), flags)
-        ok = ok & (pdf > 0.0)
         wi = np.stack(np.broadcast_arrays(ix, iy, np.where(below, -iz, iz)), axis=-1)
-        weight = np.where(ok, weight, 0.0)
-        return BSDFSample(
-            wi=np.where(ok[..., None], wi, 0.0),
-            weight=np.repeat(weight[..., None], 3, axis=-1),
-            pdf=np.where(ok, pdf, 0.0),
-            flags=np.where(ok, flags, int(Flags.NONE)),
-        )
+        return finished_sample(wi, np.repeat(weight[..., None], 3, axis=-1), pdf,
+                               np.where(ok, flags, int(Flags.NONE)))
 
     def _pass_energy(self, ox, oy, zo):
         """Energy a pass-through carries from ``wo`` (``zo`` = |cos o| > 0): 1 where

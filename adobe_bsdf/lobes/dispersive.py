@@ -7,13 +7,15 @@ import numpy as np
 from adobe_bsdf import _params, fresnel
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.composition import choose, sample_where
-from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy_iors
+from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy, wavelengths
 from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
 from adobe_bsdf.microfacet import distribution
 
 __all__ = ["Dispersive", "channel_probabilities"]
 
 _CHANNELS = range(3)
+#: the default channel wavelengths, validated
+_RGB_NM = wavelengths(RGB_WAVELENGTHS_NM)
 
 
 def channel_probabilities(throughput, shape=()) -> np.ndarray:
@@ -31,7 +33,7 @@ def _channel_indices(eta, dispersion, wavelengths_nm):
     1/eta), as seen from above (inverted where the dense medium is above, eta < 1)."""
     dense = eta >= 1.0
     n_d = np.where(dense, eta, 1.0 / eta)
-    n_c = cauchy_iors(n_d, dispersion, wavelengths_nm)
+    n_c = cauchy(n_d, dispersion, wavelengths_nm)
     crossed = (n_c <= 1.0) & (n_d[..., None] > 1.0)
     if np.any(crossed):
         bad = np.broadcast_to(np.asarray(dispersion)[..., None], crossed.shape)[crossed][0]
@@ -90,9 +92,9 @@ class Dispersive(Lobe):
         if np.shape(wavelengths_nm) != (3,):
             raise ValueError(f"wavelengths_nm = {wavelengths_nm!r}: allowed three wavelengths")
         self._init(eta, dispersion, distribution(model, alpha_x, alpha_y, masking),
-                   wavelengths_nm)
+                   wavelengths(wavelengths_nm))
 
-    def _init(self, eta, dispersion, microfacets, wavelengths_nm=RGB_WAVELENGTHS_NM):
+    def _init(self, eta, dispersion, microfacets, wavelengths_nm=_RGB_NM):
         self.dispersion = dispersion
         #: eta_c, ``(..., 3)``
         self.eta = _channel_indices(eta, dispersion, wavelengths_nm)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.sampling import cosine_hemisphere
 
 __all__ = ["Lambert"]
@@ -49,9 +49,6 @@ class Lambert(Lobe):
         ok = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
         shape = np.broadcast_shapes(ok.shape, self.reflectance.shape[:-1])
         ok = np.broadcast_to(ok, shape)
-        return BSDFSample(
-            wi=np.where(ok[..., None], wi, 0.0),
-            weight=np.where(ok[..., None], self.reflectance, 0.0),
-            pdf=np.where(ok, wi[..., 2] / np.pi, 0.0),
-            flags=np.where(ok, int(self.flags), int(Flags.NONE)),
-        )
+        weight = np.broadcast_to(self.reflectance, shape + (3,))
+        return finished_sample(wi, weight, wi[..., 2] / np.pi,
+                               np.where(ok, int(self.flags), int(Flags.NONE)))

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.lobes.dielectric import _mirror_z
 from adobe_bsdf.sampling import cosine_hemisphere
 
@@ -55,10 +55,7 @@ class Separable(Lobe):
         pdf = self._pdf(wo, wi)
         ok = pdf > 0.0
         weight = self._eval(wo, wi) * (np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))[..., None]
-        ok = np.broadcast_to(ok, weight.shape[:-1])
         flags = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
                                               int(Flags.REFLECTION), int(Flags.TRANSMISSION))
-        return BSDFSample(wi=np.where(ok[..., None], wi, 0.0),
-                          weight=np.where(ok[..., None], weight, 0.0),
-                          pdf=np.where(ok, pdf, 0.0),
-                          flags=np.where(ok, flags, int(Flags.NONE)))
+        pdf = np.broadcast_to(pdf, weight.shape[:-1])
+        return finished_sample(wi, weight, pdf, np.broadcast_to(flags, pdf.shape))

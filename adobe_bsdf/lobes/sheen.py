@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf.bsdf import BSDFSample, Flags, SupportLobe, luminance
+from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.lobes.energy_lookup import lookup
 
 __all__ = ["Sheen", "R_SIMILAR"]
@@ -192,12 +192,7 @@ class Sheen(SupportLobe):
             pdf = self._p(wo, ok, self._D(wo, wi))
             e, K = self._shadowing(np.where(ok, oz, 1.0), iz, s_o, self._sigma(wi))
             weight = self._scale * np.where(ok, s_o * iz * e / K, 0.0)[..., None]
-        return BSDFSample(
-            wi=np.where(ok[..., None], wi, 0.0),
-            weight=np.where(ok[..., None], weight, 0.0),
-            pdf=pdf,
-            flags=np.where(ok, int(self.flags), int(Flags.NONE)),
-        )
+        return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------
     def _table_E(self, wo, with_error):

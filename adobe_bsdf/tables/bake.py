@@ -24,6 +24,7 @@ import numpy as np
 import scipy
 from tqdm import tqdm
 
+from adobe_bsdf._version import __version__
 from adobe_bsdf.tables.catalog import SPECS
 from adobe_bsdf.tables.table import Table, TableSpec
 
@@ -63,8 +64,6 @@ def bake(spec: TableSpec, workers: int = 2, progress: bool = True,
          parent: Table | None = None) -> Table:
     """Compute every node of ``spec`` (a derived table from its baked ``parent``); the
     metadata records how, how long, and the parent's content hash."""
-    from adobe_bsdf import __version__
-
     start = time.perf_counter()
     values, errors = compute(spec, spec.grid(), workers, progress, parent)
     seconds = time.perf_counter() - start
