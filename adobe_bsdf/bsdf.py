@@ -220,7 +220,7 @@ class Lobe(_params.Validated):
 
         ``throughput`` (colour ``(..., 3)`` in [0, inf), default white) is the path
         throughput so far; a lobe whose channels scatter differently (``Dispersive``) picks
-        among them in proportion to it (seed 000 §4); every other lobe ignores it.
+        among them in proportion to it [Kutz2021, §4]; every other lobe ignores it.
         """
         args = ((_params.direction_shape("wo", wo), partial(_params.check_unit, "wo")),
                 (_params.uniforms_shape("u", u, 3), partial(_params.check_uniform, "u")))

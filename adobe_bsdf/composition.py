@@ -15,17 +15,17 @@ Public API
 
 Layering
 --------
-This is the non-reciprocal albedo scaling of OpenPBR (seed 003, section Layering, the
-"general albedo scaling" equation, with a coverage c as its v1.1.1 writes it) and of the ASM's
-sheen and coat (seed 000 §6-7): the energy the top layer reflects, E_top(wo), is taken from
-what reaches the base, and t(w) is a one-way transmittance of the top layer's medium (the
-coat's absorption). With E_top, E_base <= 1 and t <= 1,
+This is the non-reciprocal albedo scaling of OpenPBR ([Andersson2023, §Layering], the
+"general albedo scaling" equation, with a coverage c as [OpenPBR2026, §Layering] writes it) and
+of the sheen and coat of the ASM [Kutz2021, §6-7]: the energy the top layer reflects,
+E_top(wo), is taken from what reaches the base, and t(w) is a one-way transmittance of the top
+layer's medium (the coat's absorption). With E_top, E_base <= 1 and t <= 1,
 
     E(wo) = c E_top + (1 - c) E_base + c t(wo) (1 - E_top) int t(wi) f_base |cos| <= 1,
 
 and with a white base and t = 1 the layer keeps all the energy (the white furnace).
 
-Why not the reciprocal form ``C (1 - E_top(wi)) (1 - E_top(wo)) f_base`` (seed 003)? Its
+Why not the reciprocal form ``C (1 - E_top(wi)) (1 - E_top(wo)) f_base`` [Andersson2023]? Its
 normalisation C is an integral of the base BSDF weighted by 1 - E_top, a new table for every
 base: the ASM's "albedo scaling technique" and OpenPBR both use the form above. Its
 non-reciprocity, f(wo, wi) - f(wi, wo) = c t t (E_top(wi) - E_top(wo)) f_base, is measured in
@@ -110,7 +110,7 @@ class Sum(Lobe):
     Sampling picks component k with probability P_k(wo) proportional to
     lum(w_k) ``_sampling_weight_k(wo)`` (an albedo estimate), samples it, and weighs a
     non-delta sample by the whole sum, weight = f |cos| / pdf with pdf = sum_k P_k pdf_k (the
-    one-sample balance heuristic, Veach 1997 §9.2.4), so ``pdf`` and ``sample`` agree
+    one-sample balance heuristic, [Veach1997, §9.2.4]), so ``pdf`` and ``sample`` agree
     whatever the estimates. A delta sample of component k has probability P_k times its
     own. The first uniform is re-used inside the chosen interval, so components that branch
     on it (the dielectric's reflect/refract choice) stay stratified. Where a component's

@@ -2,28 +2,27 @@
 
 Public API
 ----------
-``abbe_to_dispersion(abbe)``                      Dispersion = 20 / V_d (seed 000 eq. 12)
-``dispersion_to_abbe(dispersion)``                V_d = 20 / Dispersion (seed 000 eq. 13)
+``abbe_to_dispersion(abbe)``                      Dispersion = 20 / V_d [Kutz2021, eq. 12]
+``dispersion_to_abbe(dispersion)``                V_d = 20 / Dispersion [Kutz2021, eq. 13]
 ``cauchy_iors(ior, dispersion, wavelengths_nm)``  n(lambda) = A + B / lambda^2 per channel
 ``abbe_number(n_d, n_F, n_C)``                    V_d = (n_d - 1) / (n_F - n_C) (eq. 11)
 ``RGB_WAVELENGTHS_NM``                            the wavelengths of the RGB channels
 ``FRAUNHOFER_NM``                                 the d, F and C lines of eq. 11
 
 The ASM maps the Abbe number to wavelength-dependent indices with "the basic form of
-Cauchy's equation" (seed 000 §4). Fixing n(lambda_d) = n_d and (n_d - 1) / (n(lambda_F) -
+Cauchy's equation" [Kutz2021, §4]. Fixing n(lambda_d) = n_d and (n_d - 1) / (n(lambda_F) -
 n(lambda_C)) = V_d gives B = (n_d - 1) / (V_d (lambda_F^-2 - lambda_C^-2)) and
 A = n_d - B / lambda_d^2. Dispersion 0 (V_d = inf) gives B = 0: every channel gets n_d
 exactly.
 
-Wavelengths: the renderer of seed 000 samples "a wavelength for each RGB color channel"
+Wavelengths: the renderer of [Kutz2021, §4] samples "a wavelength for each RGB color channel"
 without saying which; we use one fixed wavelength per channel, the dominant wavelengths of the
 Rec. 709 / sRGB primaries against D65 (611, 549, 464 nm, as ``colour.dominant_wavelength``
 gives them; ``tests/test_dispersion.py`` recomputes them).
 
 References
 ----------
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``) §4, eqs. 11-13,
-      Table 2.
+[Kutz2021, §4] eqs. 11-13, Table 2: the Dispersion parameter and Cauchy's equation.
 Fraunhofer lines: He d 587.5618 nm, H F 486.1327 nm, H C 656.2725 nm (ISO 7944).
 """
 
@@ -44,14 +43,14 @@ FRAUNHOFER_NM = {"d": 587.5618, "F": 486.1327, "C": 656.2725}
 
 
 def abbe_to_dispersion(abbe):
-    """Dispersion = 20 / V_d (seed 000 eq. 12); ``abbe`` V_d finite in (0, inf) (no
+    """Dispersion = 20 / V_d [Kutz2021, eq. 12]; ``abbe`` V_d finite in (0, inf) (no
     dispersion is Dispersion 0, V_d = inf in eq. 13)."""
     v = _params.real("abbe", abbe, 0.0, np.inf, lo_open=True)
     return 20.0 / v
 
 
 def dispersion_to_abbe(dispersion):
-    """V_d = 20 / Dispersion (seed 000 eq. 13); ``dispersion`` in [0, inf), 0 -> inf (no
+    """V_d = 20 / Dispersion [Kutz2021, eq. 13]; ``dispersion`` in [0, inf), 0 -> inf (no
     dispersion), as for a subnormal dispersion, where 20 / d overflows."""
     d = _params.real("dispersion", dispersion, 0.0, np.inf)
     with np.errstate(divide="ignore", over="ignore"):
@@ -59,7 +58,7 @@ def dispersion_to_abbe(dispersion):
 
 
 def abbe_number(n_d, n_F, n_C):
-    """V_d = (n_d - 1) / (n_F - n_C) (seed 000 eq. 11); indices with n_F > n_C."""
+    """V_d = (n_d - 1) / (n_F - n_C) [Kutz2021, eq. 11]; indices with n_F > n_C."""
     n_d = _params.real("n_d", n_d, 0.0, np.inf, lo_open=True)
     n_F = _params.real("n_F", n_F, 0.0, np.inf, lo_open=True)
     n_C = _params.real("n_C", n_C, 0.0, np.inf, lo_open=True)

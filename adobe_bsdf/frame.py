@@ -12,7 +12,8 @@ anisotropic ``alpha_x`` lies along the tangent; a positive angle turns x towards
 
 References
 ----------
-Duff et al. 2017, "Building an orthonormal basis, revisited", JCGT 6(1) (``coordinate_system``).
+[Duff2017] the orthonormal basis of ``coordinate_system``.
+[Pharr2023, §9.3] Snell's law in vector form (``refract``).
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ def refract(w, m, eta):
 
     ``eta`` is the relative index n_t / n_i where the incident side is the one ``w`` lies on
     (with respect to ``m``). Returns ``(wt, valid)``; ``valid`` is False under total internal
-    reflection, where ``wt`` is 0. Snell's law in vector form (pbrt-v4 §9.3 "Refract").
+    reflection, where ``wt`` is 0. Snell's law in vector form ([Pharr2023, §9.3], ``Refract``).
     """
     cos_i = dot(w, m)
     inv = 1.0 / np.asarray(eta, dtype=np.float64)
@@ -60,7 +61,7 @@ def refract(w, m, eta):
 
 
 def coordinate_system(n):
-    """Tangent and bitangent ``(t, b)`` completing the unit normal ``n`` (Duff et al. 2017)."""
+    """Tangent and bitangent ``(t, b)`` completing the unit normal ``n`` [Duff2017]."""
     n = np.asarray(n, dtype=np.float64)
     x, y, z = n[..., 0], n[..., 1], n[..., 2]
     sign = np.where(z >= 0.0, 1.0, -1.0)
@@ -85,7 +86,7 @@ class Frame:
 
     The tangent is made orthogonal to ``n`` by Gram–Schmidt; without a tangent (or with one
     parallel to ``n``) ``coordinate_system`` supplies one. ``angle`` rotates the tangent
-    about ``n`` (ASM anisotropy rotation, seed ``000`` §3).
+    about ``n`` (ASM anisotropy rotation, [Kutz2021, §3]).
     """
 
     def __init__(self, n, t=None, angle=0.0):

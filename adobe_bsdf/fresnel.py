@@ -4,10 +4,11 @@ Public API
 ----------
 ``dielectric(cos_theta_i, eta)``                       exact unpolarised, both sides, TIR
 ``conductor(cos_theta_i, eta, k)``                     exact unpolarised, complex IOR eta + i k
-``schlick(cos_theta, f0, f90=1, exponent=5)``          Schlick 1994, generalized (seed 001 eq. 4)
-``f82(cos_theta, f0, f82)``                            Hoffman's original F82 (seed 000 eqs. 2-5)
-``f82_tint(cos_theta, f0, tint, f90=1, exponent=5)``   ASM F82-tint (seed 000 eqs. 2-8),
-                                                       generalized (seed 001 eqs. 5-6)
+``schlick(cos_theta, f0, f90=1, exponent=5)``          [Schlick1994], generalized
+                                                       [Hoffman2023, eq. 4]
+``f82(cos_theta, f0, f82)``                            Hoffman's original F82 [Kutz2021, eqs. 2-5]
+``f82_tint(cos_theta, f0, tint, f90=1, exponent=5)``   ASM F82-tint [Kutz2021, eqs. 2-8],
+                                                       generalized [Hoffman2023, eqs. 5-6]
 ``gulbrandsen_to_ior(r, g)``, ``ior_to_gulbrandsen(eta, k)``
                                                        Gulbrandsen's artist-friendly conductor
                                                        parameters (reflectivity, edge tint) and
@@ -41,7 +42,7 @@ __all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_M
            "gulbrandsen_to_ior", "ior_to_gulbrandsen",
            "ExactConductor", "ExactDielectric", "F82Tint"]
 
-#: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) (seed 000 eq. 2)
+#: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) [Kutz2021, eq. 2]
 COS_THETA_MAX = 1.0 / 7.0
 
 #: rounding slack accepted on |cos theta| <= 1 before it is rejected
@@ -73,7 +74,7 @@ def dielectric(cos_theta_i, eta) -> np.ndarray:
     Notes
     -----
     R = (r_s^2 + r_p^2) / 2 with r_s = (c_i - eta c_t) / (c_i + eta c_t),
-    r_p = (eta c_i - c_t) / (eta c_i + c_t) (Born & Wolf §1.5.2), evaluated in a form free of
+    r_p = (eta c_i - c_t) / (eta c_i + c_t) [BornWolf1980, §1.5.2], evaluated in a form free of
     cancellation so that the relative accuracy holds as eta -> 1.
     """
     return _dielectric(_cos("cos_theta_i", cos_theta_i),
@@ -149,7 +150,7 @@ def conductor(cos_theta_i, eta, k) -> np.ndarray:
     With n = eta + i k, s^2 = 1 - c^2 and n c_t = sqrt(n^2 - s^2) on the principal branch
     (Re, Im >= 0: the attenuating wave),
     r_s = (c - n c_t) / (c + n c_t), r_p = (n^2 c - n c_t) / (n^2 c + n c_t),
-    R = (|r_s|^2 + |r_p|^2) / 2 (Born & Wolf §13.2). k = 0 reduces to ``dielectric``.
+    R = (|r_s|^2 + |r_p|^2) / 2 [BornWolf1980, §13.2]. k = 0 reduces to ``dielectric``.
     """
     c = _cos("cos_theta_i", cos_theta_i)
     eta = _params.color("eta", eta, 0.0, np.inf)
@@ -231,10 +232,10 @@ def _conductor_channel(c2, s2, two_c2, s4, A, B, out=None):
 def gulbrandsen_to_ior(reflectivity, edge_tint) -> tuple[np.ndarray, np.ndarray]:
     """Complex index (eta, k) of a conductor from its reflectivity r and edge tint g.
 
-    Gulbrandsen 2014 (JCGT 3(4)): with s = sqrt(r), n_min = (1 - r) / (1 + r) and
+    [Gulbrandsen2014]: with s = sqrt(r), n_min = (1 - r) / (1 + r) and
     n_max = (1 + s) / (1 - s), eta = g n_min + (1 - g) n_max and k is the extinction for
     which the normal-incidence reflectance ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2) is r,
-    k^2 = (r (eta + 1)^2 - (eta - 1)^2) / (1 - r). Seed 002 §4 maps coloured hazy
+    k^2 = (r (eta + 1)^2 - (eta - 1)^2) / (1 - r). [Barla2018, §4] maps coloured hazy
     conductors through it: g = 0 gives k = 0, a dielectric of reflectance r.
 
     Parameters
@@ -377,7 +378,7 @@ class ExactConductor(Fresnel):
 class F82Tint(Fresnel):
     """The F82-tint metal Fresnel (``f82_tint``) with fixed parameters, as an object for lobes:
     ``F82Tint(f0, tint, f90=1, exponent=5)(cos_theta) -> (..., 3)``; ``from_cos2(c2)`` for
-    c = sqrt(c2) >= 0 (seed 000 eqs. 6-8, seed 001 eqs. 5-6)."""
+    c = sqrt(c2) >= 0 ([Kutz2021, eqs. 6-8], [Hoffman2023, eqs. 5-6])."""
 
     def __init__(self, f0, tint, f90=1.0, exponent=5.0):
         self._init(_params.color("f0", f0, 0.0, 1.0), _params.color("tint", tint, 0.0, np.inf),
@@ -427,7 +428,7 @@ class ExactDielectric(Fresnel):
 def schlick(cos_theta, f0, f90=1.0, exponent=5.0) -> np.ndarray:
     """Generalized Schlick reflectance F = f0 + (f90 - f0)(1 - |cos theta|)^exponent.
 
-    seed 001 eq. 4 (eq. 1 for f90 = 1, exponent = 5). ``f0``, ``f90`` colours in [0, 1];
+    [Hoffman2023, eq. 4] (eq. 1 for f90 = 1, exponent = 5). ``f0``, ``f90`` colours in [0, 1];
     ``exponent`` in (0, inf). Returns ``(..., 3)``.
     """
     c = _cos("cos_theta", cos_theta)
@@ -444,11 +445,11 @@ def _schlick(mu, f0, f90, exponent):
 
 
 def f82(cos_theta, f0, f82) -> np.ndarray:
-    """Hoffman's original F82 model (seed 000 eqs. 2-5), unclamped.
+    """Hoffman's original F82 model [Kutz2021, eqs. 2-5], unclamped.
 
     ``f82`` is the reflectance h at cos theta = 1/7 (eq. 3); a = (r + (1 - r)(1 - 1/7)^5 - h)
     / ((1/7)(1 - 1/7)^6) (eq. 4); F = r + (1 - r)(1 - mu)^5 - a mu (1 - mu)^6 (eq. 5). With a
-    white ``f82`` it exceeds 1 near grazing (seed 000 Fig. 4): it is returned as is so that
+    white ``f82`` it exceeds 1 near grazing [Kutz2021, Fig. 4]: it is returned as is so that
     the comparison can be shown.
     """
     mu = np.abs(_cos("cos_theta", cos_theta))
@@ -461,11 +462,11 @@ def f82(cos_theta, f0, f82) -> np.ndarray:
 
 
 def f82_tint(cos_theta, f0, tint, f90=1.0, exponent=5.0) -> np.ndarray:
-    """ASM F82-tint metal reflectance, in the generalized form of seed 001.
+    """ASM F82-tint metal reflectance [Kutz2021, §2], in the generalized form of [Hoffman2023].
 
-    F = r0 + (r90 - r0)(1 - mu)^alpha - a mu (1 - mu)^6 (seed 001 eq. 5) with
+    F = r0 + (r90 - r0)(1 - mu)^alpha - a mu (1 - mu)^6 [Hoffman2023, eq. 5] with
     a = (r0 + (r90 - r0)(1 - mu_max)^alpha)(1 - t) / (mu_max (1 - mu_max)^6) (eq. 6),
-    mu_max = 1/7 (seed 000 eq. 2). With f90 = 1 and exponent = 5 this is seed 000 eqs. 6-8;
+    mu_max = 1/7 [Kutz2021, eq. 2]. With f90 = 1 and exponent = 5 this is [Kutz2021, eqs. 6-8];
     with a white tint it is the (generalized) Schlick model.
 
     Parameters
@@ -473,13 +474,13 @@ def f82_tint(cos_theta, f0, tint, f90=1.0, exponent=5.0) -> np.ndarray:
     cos_theta : array_like (...), in [-1, 1] (|cos| is used).
     f0 : colour in [0, 1]          reflectance at normal incidence r0 ("base color").
     tint : colour in [0, inf)      multiplier t of the Schlick value at mu_max
-                                   ("specular edge color"; <= 1 for real metals, seed 000 §2).
+                                   ("specular edge color"; <= 1 for real metals, [Kutz2021, §2]).
     f90 : colour in [0, 1]         reflectance at grazing incidence r90.
     exponent : (...) in (0, inf)   interpolation exponent alpha.
 
     Returns
     -------
-    ndarray (..., 3), clamped to [0, 1] as the reference listing of seed 000 §2.4 does (the
+    ndarray (..., 3), clamped to [0, 1] as the reference listing of [Kutz2021, §2.4] does (the
     polynomial can leave [0, 1] for extreme tints, e.g. f0 = tint = 0 at mu = 1/2).
     """
     mu = np.abs(_cos("cos_theta", cos_theta))

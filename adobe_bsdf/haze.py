@@ -1,7 +1,7 @@
 """The perceptual-to-physical haze mapping of hazy gloss [Barla2018]; the lobes built on it
 are ``lobes.HazyGloss`` and ``lobes.HazyDielectric`` (both also in ``adobe_bsdf.hazy``).
 
-The composite specular BRDF f_r = (1 - beta) F_r f_n + beta F_r f_w (seed 002 eq. 1), two
+The composite specular BRDF f_r = (1 - beta) F_r f_n + beta F_r f_w [Barla2018, eq. 1], two
 microfacet lobes of narrow and wide roughness sharing one Fresnel term, is controlled through
 its perceptual decomposition into a specular core and a halo (eqs. 2-5): the core keeps its
 reflectivity r_c whatever the haziness, and the halo has intensity k_h and extent lambda_h.
@@ -9,16 +9,15 @@ reflectivity r_c whatever the haziness, and the halo has intensity k_h and exten
 Public API
 ----------
 ``wide_roughness(alpha_x, alpha_y, extent_x, extent_y)``   eq. 8
-``peak_ratio(alpha_n, alpha_w, model)``                    Table 2 (GGX / Walter, Beckmann)
+``peak_ratio(alpha_n, alpha_w, model)``                    Table 2 (GGX [Walter2007], Beckmann)
 ``haze_intensity(r_c, p, haziness)``                       eq. 7 (piecewise linear)
 ``haze_intensity_smooth(r_c, p, haziness, w)``             appendix eqs. 12-15 (rational Bézier)
 ``haze_mapping(...) -> HazeMapping``                       the HAZEMAPPING algorithm (§2.4)
 
 References
 ----------
-[002] Barla, Pacanowski, Vangorp 2018, "A Composite BRDF Model for Hazy Gloss"
-      (``shared/seeds/002_01cff37cda6a7899.txt``): eqs. 1-8, Table 2, §2.4, appendix.
-Gulbrandsen 2014, "Artist Friendly Metallic Fresnel" (``fresnel.gulbrandsen_to_ior``).
+[Barla2018] eqs. 1-8, Table 2, §2.4, appendix.
+[Gulbrandsen2014] artist-friendly metallic Fresnel (``fresnel.gulbrandsen_to_ior``).
 """
 
 from __future__ import annotations
@@ -39,7 +38,7 @@ PEAK_MODELS = ("ggx", "beckmann")
 
 def wide_roughness(alpha_x, alpha_y, extent_x, extent_y=None):
     """Roughness of the wide lobe, alpha_w = alpha_n + lambda_h sqrt(alpha_n^x alpha_n^y)
-    per axis (seed 002 eq. 8): the haze extents lambda_h^{x,y} >= 0 in the same units along
+    per axis [Barla2018, eq. 8]: the haze extents lambda_h^{x,y} >= 0 in the same units along
     both axes; isotropic, alpha_w = alpha_n (1 + lambda_h). Returns ``(alpha_w^x, alpha_w^y)``.
     """
     ax = _params.real("alpha_x", alpha_x, 0.0, np.inf)
@@ -52,9 +51,9 @@ def wide_roughness(alpha_x, alpha_y, extent_x, extent_y=None):
 
 def peak_ratio(alpha_n, alpha_w, model: str = "ggx"):
     """p = f_w(n, n) / f_n(n, n), the ratio of the wide and narrow lobes' values in the
-    mirror direction at normal incidence (seed 002 §2.2, Table 2).
+    mirror direction at normal incidence [Barla2018, §2.2, Table 2].
 
-    There G = 1 and the Fresnel terms cancel, so p = D_w(n) / D_n(n); for GGX (Walter et al.)
+    There G = 1 and the Fresnel terms cancel, so p = D_w(n) / D_n(n); for GGX [Walter2007]
     and Beckmann (Cook-Torrance) D(n) = 1 / (pi ax ay), so p = (a_n^x a_n^y) / (a_w^x a_w^y)
     (isotropic: a_n^2 / a_w^2).
 
@@ -79,9 +78,9 @@ def _ratio_and_haziness(r_c, p, haziness):
 
 
 def haze_intensity(r_c, p, haziness):
-    """k_h = beta_h r_c / p for r_c <= p, beta_h (1 - r_c) / (1 - p) otherwise (seed 002
-    eq. 7): the haziness beta_h in [0, 1] is the share of the haze allowed by positivity
-    (k_h <= r_c / p) and energy conservation (k_h <= (1 - r_c) / (1 - p)), eq. 6.
+    """k_h = beta_h r_c / p for r_c <= p, beta_h (1 - r_c) / (1 - p) otherwise
+    [Barla2018, eq. 7]: the haziness beta_h in [0, 1] is the share of the haze allowed by
+    positivity (k_h <= r_c / p) and energy conservation (k_h <= (1 - r_c) / (1 - p)), eq. 6.
     r_c in [0, 1], p in (0, 1] (p = 1, haze extent 0, is the limit of one lobe)."""
     r_c, p, haziness = _ratio_and_haziness(r_c, p, haziness)
     with np.errstate(divide="ignore", invalid="ignore"):  # p = 1: only the first branch
@@ -90,7 +89,7 @@ def haze_intensity(r_c, p, haziness):
 
 def haze_intensity_smooth(r_c, p, haziness, weight):
     """k_h on the quadratic rational Bézier curve through (0, 0), (p, beta_h), (1, 0) with
-    weights (1, w, 1) (seed 002 appendix): smooth in r_c, inside the triangle of eq. 7's
+    weights (1, w, 1) [Barla2018, appendix]: smooth in r_c, inside the triangle of eq. 7's
     bounds, and eq. 7 in the limit w -> inf.
 
     The curve parameter u of r_c is the root in [0, 1] of (1 - b) u^2 + b u - r_c = 0 with
@@ -123,7 +122,7 @@ def _bezier_parameter(x, p, w):
 
 
 class HazeMapping(NamedTuple):
-    """Physical parameters of seed 002 eq. 1 from the perceptual ones (``haze_mapping``).
+    """Physical parameters of [Barla2018, eq. 1] from the perceptual ones (``haze_mapping``).
 
     Attributes
     ----------
@@ -154,7 +153,7 @@ class HazeMapping(NamedTuple):
 def haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None,
                  edge_tint=0.0, haze_extent_y=None, smooth_weight=None,
                  model: str = "ggx") -> HazeMapping:
-    """The HAZEMAPPING algorithm of seed 002 §2.4.
+    """The HAZEMAPPING algorithm of [Barla2018, §2.4].
 
     alpha_w from eq. 8, p from Table 2, k_h of the largest channel r^_c of r_c by eq. 7 (or
     eq. 15 with ``smooth_weight`` w), r^ = r^_c + (1 - p) k_h (eq. 5), r = (r^ / r^_c) r_c,

@@ -1,4 +1,4 @@
-"""Participating media: the ASM subsurface mapping (seed 000 §5) to absorption and scattering.
+"""Participating media: the ASM subsurface mapping [Kutz2021, §5] to absorption and scattering.
 
 Public API
 ----------
@@ -10,10 +10,10 @@ Public API
                                                     the albedo a medium really reflects, by a
                                                     random walk (beyond the paper)
 
-The mapping (seed 000 §5, in order):
+The mapping ([Kutz2021, §5], in order):
 
 1. the single-scattering albedo of each channel from the "Scattering Color" (the albedo of the
-   whole medium, multiple scattering included) by the inversion of Kulla & Conty 2017;
+   whole medium, multiple scattering included) by the inversion of [KullaConty2017];
 2. the extinction of the brightest channel is 1 / scattering_distance, and every other
    channel's extinction is multiplied by max_albedo / max(albedo, max_albedo / 1e3), so that
    all channels share one scattering coefficient and the colour comes from absorption only
@@ -34,10 +34,9 @@ A scattering distance of 0 is raised to ``DISTANCE_MIN`` (the listing's
 
 References
 ----------
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``) §5, its listings,
-      Table 3.
-Kulla, Conty 2017, "Revisiting Physically Based Shading at Imageworks", SIGGRAPH course:
-      alpha = 1 - (4.09712 + 4.20863 A - sqrt(9.59217 + 41.6808 A + 17.7126 A^2))^2.
+[Kutz2021, §5] the mapping, its listings, Table 3.
+[KullaConty2017] the albedo inversion
+alpha = 1 - (4.09712 + 4.20863 A - sqrt(9.59217 + 41.6808 A + 17.7126 A^2))^2.
 """
 
 from __future__ import annotations
@@ -53,9 +52,9 @@ __all__ = ["Medium", "single_scattering_albedo", "asm_medium", "HalfSpaceAlbedo"
 
 #: smallest scattering distance (scene units): 0 is raised to it
 DISTANCE_MIN = 1e-9
-#: largest ratio of the extinctions of two channels (seed 000 §5 listing)
+#: largest ratio of the extinctions of two channels [Kutz2021, §5 listing]
 MAX_MULTIPLIER = 1e3
-#: wavelengths (nm) of the Rayleigh control, red, green, blue (seed 000 §5 listing)
+#: wavelengths (nm) of the Rayleigh control, red, green, blue [Kutz2021, §5 listing]
 RAYLEIGH_NM = (640.0, 540.0, 460.0)
 
 
@@ -92,7 +91,7 @@ def single_scattering_albedo(multiple_albedo, g=0.0):
 
 def asm_medium(scattering_distance, scattering_color, scattering_distance_scale=1.0,
                scatter_rayleigh=0.0, scattering_red_shift=0.0, g=0.0) -> Medium:
-    """The ASM subsurface medium (seed 000 §5; the steps are in the module docstring).
+    """The ASM subsurface medium ([Kutz2021, §5]; the steps are in the module docstring).
 
     Parameters
     ----------

@@ -118,7 +118,7 @@ class _Distribution(_params.Validated):
 
     def _stretched(self, w):
         """|w.z| and the projected roughness term t = sqrt(ax^2 wx^2 + ay^2 wy^2), so that
-        alpha(w) tan(theta) = t / |w.z| (Heitz 2014 eq. 80)."""
+        alpha(w) tan(theta) = t / |w.z| [Heitz2014, eq. 80]."""
         z = np.abs(w[..., 2])
         return z, np.hypot(self.alpha_x * w[..., 0], self.alpha_y * w[..., 1])
 
@@ -207,7 +207,7 @@ class _Distribution(_params.Validated):
         return abs_zi * (abs_zo + s_o) / (abs_zi * s_o + abs_zo * s_i)
 
     def pdf_visible(self, w, m) -> np.ndarray:
-        """Density of visible normals D_w(m) = G1(w) max(0, w.m) D(m) / |wz| (Heitz 2018 eq. 3).
+        """Density of visible normals D_w(m) = G1(w) max(0, w.m) D(m) / |wz| [Heitz2018, eq. 3].
 
         Written as 2 max(0, w'.m) D(m) / (|wz| + S(w)), finite at grazing ``w``. ``w`` is
         first turned to the upper hemisphere (w' = sign(wz) w), as ``sample_visible`` does.
@@ -236,8 +236,8 @@ class GGX(_Distribution):
     alpha_x, alpha_y : array_like, in [0, inf)
         Roughness along the tangent (x) and bitangent (y); ``alpha_y`` defaults to ``alpha_x``.
     masking : {"correlated", "separable"}
-        ``G2`` form: height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014 eq. 99;
-        pbrt-v4) or separable G1(wo) G1(wi) (Heitz 2014 eq. 43; Mitsuba 3).
+        ``G2`` form: height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)) ([Heitz2014, eq. 99];
+        pbrt-v4) or separable G1(wo) G1(wi) ([Heitz2014, eq. 43]; Mitsuba 3).
 
     Notes
     -----
@@ -248,7 +248,7 @@ class GGX(_Distribution):
 
     # -- distribution ---------------------------------------------------------------------
     def D(self, m) -> np.ndarray:
-        """Normal distribution D(m) (Walter et al. 2007 eq. 33, anisotropic form).
+        """Normal distribution D(m) ([Walter2007, eq. 33], anisotropic form).
 
         D(m) = 1 / (pi ax ay ((mx/ax)^2 + (my/ay)^2 + mz^2)^2) for mz > 0, else 0.
         """
@@ -258,7 +258,7 @@ class GGX(_Distribution):
         return np.where(ok, 1.0 / (np.pi * self._ax * self._ay * np.where(ok, e * e, 1.0)), 0.0)
 
     def lambda_(self, w) -> np.ndarray:
-        """Smith Lambda(w) = (sqrt(1 + (ax^2 wx^2 + ay^2 wy^2)/wz^2) - 1) / 2 (Heitz 2014 eq. 86).
+        """Smith Lambda(w) = (sqrt(1 + (ax^2 wx^2 + ay^2 wy^2)/wz^2) - 1) / 2 [Heitz2014, eq. 86].
 
         Written without cancellation as (S - |wz|) / (2 |wz|) = s^2 / (2 |wz| (|wz| + S)).
         +inf at wz = 0 (the exact limit); 0 where the distribution is smooth.
@@ -272,7 +272,7 @@ class GGX(_Distribution):
     # -- component forms for the lobes' kernels (no validation, no stacking) ---------------
     def projected(self, x, y, abs_z):
         """S(w) = sqrt(wz^2 + ax^2 wx^2 + ay^2 wy^2) from the components of w (|wz| given),
-        so that Lambda(w) = (S / |wz| - 1) / 2 (Heitz 2014 eq. 86)."""
+        so that Lambda(w) = (S / |wz| - 1) / 2 [Heitz2014, eq. 86]."""
         s = self.alpha_x * x
         s *= s
         t = self.alpha_y * y
@@ -282,8 +282,8 @@ class GGX(_Distribution):
         return np.sqrt(s, out=s if isinstance(s, np.ndarray) else None)
 
     def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
-        """D(h / |h|) of an unnormalised h with |h|^2 = ``length2`` (eq. 33 of Walter et al.
-        2007 rewritten: D = |h|^4 / (pi ax ay Q^2), Q = (hx/ax)^2 + (hy/ay)^2 + hz^2);
+        """D(h / |h|) of an unnormalised h with |h|^2 = ``length2`` ([Walter2007, eq. 33]
+        rewritten: D = |h|^4 / (pi ax ay Q^2), Q = (hx/ax)^2 + (hy/ay)^2 + hz^2);
         0 where hz <= 0 unless ``upper`` (the caller knows hz > 0, or masks). Inf or NaN
         where h = 0 (the caller masks those)."""
         q = hx / self._ax
@@ -299,7 +299,7 @@ class GGX(_Distribution):
 
     # -- visible normals ------------------------------------------------------------------
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
-        """Visible normal (mx, my, mz) by the spherical-cap method of Dupuy & Benyoub 2023:
+        """Visible normal (mx, my, mz) by the spherical-cap method of [DupuyBenyoub2023]:
         stretch w' = sign(wz) w to the hemisphere configuration, sample the cap of the unit
         sphere cut by the plane z = -w_h.z, add w_h, unstretch."""
         ax, ay = self._ax, self._ay
@@ -323,10 +323,10 @@ SLOPE_MIN = -40.0
 class Beckmann(_Distribution):
     """Anisotropic Beckmann normal distribution with Smith masking-shadowing.
 
-    D(m) = exp(-((mx/ax)^2 + (my/ay)^2) / mz^2) / (pi ax ay mz^4) (Walter et al. 2007 eq. 25,
+    D(m) = exp(-((mx/ax)^2 + (my/ay)^2) / mz^2) / (pi ax ay mz^4) ([Walter2007, eq. 25],
     anisotropic form), Lambda(w) = (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)) with
-    a = 1 / (alpha(w) tan theta) (Heitz 2014 eq. 83). Parameters, masking forms and the smooth
-    limit as ``GGX``; seed 002 (Table 2) compares it with GGX as a hazy-gloss lobe.
+    a = 1 / (alpha(w) tan theta) [Heitz2014, eq. 83]. Parameters, masking forms and the smooth
+    limit as ``GGX``; [Barla2018, Table 2] compares it with GGX as a hazy-gloss lobe.
     """
 
     def D(self, m) -> np.ndarray:
@@ -349,7 +349,7 @@ class Beckmann(_Distribution):
 
     def projected(self, x, y, abs_z):
         """S(w) = |wz| erf(a) + t exp(-a^2) / sqrt(pi), with t = sqrt(ax^2 wx^2 + ay^2 wy^2)
-        and a = |wz| / t: Heitz 2014 eq. 83 as S = |wz| (1 + 2 Lambda), a sum of
+        and a = |wz| / t: [Heitz2014, eq. 83] as S = |wz| (1 + 2 Lambda), a sum of
         non-negative terms; |wz| at normal incidence (t = 0), t / sqrt(pi) at grazing."""
         t = np.hypot(self.alpha_x * x, self.alpha_y * y)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -369,7 +369,7 @@ class Beckmann(_Distribution):
         return D if upper else np.where(hz > 0.0, D, 0.0)
 
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
-        """Visible normal (mx, my, mz) after Heitz & d'Eon 2014.
+        """Visible normal (mx, my, mz) after [HeitzdEon2014].
 
         Stretch w' = sign(w.z) w to alpha = 1 and rotate it into the x-z plane,
         (sin theta, 0, cos theta). There the visible slopes are independent: the slope along
@@ -451,12 +451,12 @@ def distribution(model: str, alpha_x, alpha_y=None, masking: str = "correlated")
 
 class Mixture(_Distribution):
     """The mixed distribution D = (1 - beta) D_n + beta D_w of two rough distributions
-    (seed 002 §3, "intertwined" microsurfaces).
+    ([Barla2018, §3], "intertwined" microsurfaces).
 
     Its Smith Lambda is linear in D, so Lambda = (1 - beta) Lambda_n + beta Lambda_w: the
-    compound masking-shadowing of seed 002 §3, and S(w) = |wz| (1 + 2 Lambda) mixes with
+    compound masking-shadowing of [Barla2018, §3], and S(w) = |wz| (1 + 2 Lambda) mixes with
     the same weights. Its visible normals are the mixture of the parts' visible normals with
-    weights P_n = (1 - beta) (|wz| + S_n) / (|wz| + S), P_w = 1 - P_n (Heitz 2018 eq. 3 with
+    weights P_n = (1 - beta) (|wz| + S_n) / (|wz| + S), P_w = 1 - P_n ([Heitz2018, eq. 3] with
     G1 = 2 |wz| / (|wz| + S)); ``sample_visible_xyz`` picks the part with ``u0``.
 
     Parameters

@@ -2,7 +2,7 @@
 
 One definition serves the notebooks (``notebooks/04``, ``05``), the theory pages
 (``docs/figures.py``) and anyone checking a renderer against the papers: a ``Scene`` names
-its seed figure, and ``plot.sphere_grid(scene)`` renders it with ``render.sphere``.
+the figure it reproduces, and ``plot.sphere_grid(scene)`` renders it with ``render.sphere``.
 
 Public API
 ----------
@@ -10,13 +10,13 @@ Public API
 ``SCENES``  name -> function returning its ``Scene``:
 
 =================  ==========================================================================
-``asm_fig3``       seed 000 Fig. 3: the Table 1 metals (F0, F82 tint), roughness 0.25
-``asm_fig6``       seed 000 Fig. 6: anisotropy level (rows) x roughness (columns), aluminium
-``asm_fig9``       seed 000 Fig. 9: Dispersion 0 ... 1 on a rough glass
-``asm_fig15``      seed 000 Fig. 15: sheen with c = 1 (top) and c = 2 (bottom) over a dark base
-``asm_fig18``      seed 000 Fig. 18: coat tint, uniform and view-dependent
-``hazy_fig3``      seed 002 Fig. 3 (right): haziness on a dielectric and on a conductor
-``hazy_fig8``      seed 002 Fig. 8: physical mixture weight beta against perceptual beta_h
+``asm_fig3``       [Kutz2021, Fig. 3]: the Table 1 metals (F0, F82 tint), roughness 0.25
+``asm_fig6``       [Kutz2021, Fig. 6]: anisotropy level (rows) x roughness (columns), aluminium
+``asm_fig9``       [Kutz2021, Fig. 9]: Dispersion 0 ... 1 on a rough glass
+``asm_fig15``      [Kutz2021, Fig. 15]: sheen with c = 1 (top) and c = 2 (bottom) over a dark base
+``asm_fig18``      [Kutz2021, Fig. 18]: coat tint, uniform and view-dependent
+``hazy_fig3``      [Barla2018, Fig. 3 (right)]: haziness on a dielectric and on a conductor
+``hazy_fig8``      [Barla2018, Fig. 8]: physical mixture weight beta against perceptual beta_h
 =================  ==========================================================================
 
 Where a caption does not give a value (a colour, a roughness), the scene's ``caption`` says
@@ -24,8 +24,8 @@ which one is ours.
 
 References
 ----------
-[000] ASM (``shared/seeds/000_dc1170558b4eb881.txt``) Figs. 3, 6, 9, 15, 18.
-[002] Hazy gloss (``shared/seeds/002_01cff37cda6a7899.txt``) Figs. 3 and 8.
+[Kutz2021, Figs. 3, 6, 9, 15, 18] the Adobe Standard Material scenes.
+[Barla2018, Figs. 3 and 8] the hazy-gloss scenes.
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ class Scene:
     """Spheres to render side by side (``plot.sphere_grid``)."""
 
     title: str
-    #: seed file and figure, e.g. "seed 000 Fig. 9"
+    #: citation of the figure, e.g. "[Kutz2021, Fig. 9]"
     source: str
     #: ``render.sphere``'s environment: "furnace", "sun", "sky" or "studio"
     env: str
@@ -63,7 +63,7 @@ def asm_fig3() -> Scene:
     metals = {name: AdobeStandardMaterial(metallic=1.0, base_color=m["f0"],
                                           specular_edge_color=m["tint"], roughness=0.25)
               for name, m in presets.metals.items()}
-    return Scene("Table 1 metals, roughness 0.25", "seed 000 Fig. 3", "sky", 7, metals,
+    return Scene("Table 1 metals, roughness 0.25", "[Kutz2021, Fig. 3]", "sky", 7, metals,
                  "Base colour F0 and specular edge colour (F82 tint) of Table 1; the "
                  "roughness 0.25 is ours.")
 
@@ -78,7 +78,7 @@ def asm_fig6() -> Scene:
                 metallic=1.0, base_color=al["f0"], specular_edge_color=al["tint"],
                 roughness=r, anisotropy_level=a)
             for a in FIG6_LEVELS for r in FIG6_ROUGHNESS}
-    return Scene("anisotropy level (rows) x roughness (columns)", "seed 000 Fig. 6", "sun",
+    return Scene("anisotropy level (rows) x roughness (columns)", "[Kutz2021, Fig. 6]", "sun",
                  len(FIG6_ROUGHNESS), grid,
                  "Aluminium of Table 1 under the sun; alpha_x = r^2 + a^4, alpha_y = r^2. The "
                  "grid starts at r = 0.1: a highlight alpha_y -> 0 wide is too thin to show.")
@@ -88,7 +88,7 @@ def asm_fig9() -> Scene:
     glass = {f"dispersion {d:g}": AdobeStandardMaterial(translucency=1.0, ior=1.5,
                                                          roughness=0.0, dispersion=d)
              for d in (0.0, 0.25, 0.5, 0.75, 1.0)}
-    return Scene("Dispersion on a smooth glass", "seed 000 Fig. 9", "studio", 5, glass,
+    return Scene("Dispersion on a smooth glass", "[Kutz2021, Fig. 9]", "studio", 5, glass,
                  "ior 1.5, roughness 0 and the studio's light strips are ours: the channels "
                  "separate at the strips' edges; single paths carry one channel, so few paths "
                  "per pixel give coloured noise (Fig. 10).", zoom=1.6)
@@ -102,7 +102,7 @@ def asm_fig15() -> Scene:
     dark = AdobeStandardMaterial(base_color=(0.02, 0.02, 0.03), roughness=0.5)
     sheens = {f"c = {c:g}, r = {r:g}": composition.Layer(lobes.Sheen(1.0, r, c=c), dark)
               for c in (1.0, 2.0) for r in FIG15_ROUGHNESS}
-    return Scene("sheen c = 1 (top) and c = 2 (bottom) over a dark base", "seed 000 Fig. 15",
+    return Scene("sheen c = 1 (top) and c = 2 (bottom) over a dark base", "[Kutz2021, Fig. 15]",
                  "sun", len(FIG15_ROUGHNESS), sheens,
                  "White sheen layered by albedo scaling; the dark base is ours.")
 
@@ -128,7 +128,7 @@ def asm_fig18() -> Scene:
                        ("rough glass", {"translucency": 1.0, "roughness": 0.3})):
         coats[f"{name}, uniform"], coats[f"{name}, view-dep."] = coat_tint_pair(
             FIG18_COAT, FIG18_COAT_IOR, **base)
-    return Scene("coat tint: uniform (left), view-dependent (right)", "seed 000 Fig. 18", "sun",
+    return Scene("coat tint: uniform (left), view-dependent (right)", "[Kutz2021, Fig. 18]", "sun",
                  2, coats, zoom=1.6,
                  caption=f"Coat colour {FIG18_COAT}, ior {FIG18_COAT_IOR}, roughness 0.1 "
                  "(ours) over a white diffuse base and a white rough glass.")
@@ -143,7 +143,7 @@ def hazy_fig3() -> Scene:
     for b in (0.0, 0.25, 0.5, 0.75, 0.95):
         spheres[f"conductor β_h = {b:g}"] = hazy.HazyGloss((0.9, 0.6, 0.3), b, 7.0, 0.01,
                                                            edge_tint=0.5)
-    return Scene("haziness grows to the right", "seed 002 Fig. 3 (right)", "sky", 5, spheres,
+    return Scene("haziness grows to the right", "[Barla2018, Fig. 3 (right)]", "sky", 5, spheres,
                  "alpha_n = 0.01, lambda_h = 7 as the caption; r_c, the edge tint and the "
                  "greenish Lambertian term are ours. Dielectric beta_h in [0, 0.1] (§2.3).")
 
@@ -160,7 +160,7 @@ def hazy_fig8() -> Scene:
                                                weights=[1.0 - beta, beta])
     for value in np.linspace(first, last, 5):
         spheres[f"β_h = {value:.2f}"] = hazy.HazyGloss(**fixed, **{swept: value})
-    return Scene("physical β (top) against perceptual β_h (bottom)", "seed 002 Fig. 8", "sky",
+    return Scene("physical β (top) against perceptual β_h (bottom)", "[Barla2018, Fig. 8]", "sky",
                  5, spheres, "r_c = 0.5, alpha_n = 0.012, lambda_h = 6.4 as the caption.")
 
 

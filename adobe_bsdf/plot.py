@@ -32,10 +32,9 @@ channel index 0, 1, 2. Scalar quantities (the pdf, a grey Fresnel model) are one
 
 References
 ----------
-P. Shirley, K. Chiu, "A low distortion map between disk and square", JGT 2(3), 1997
-(``sampling.concentric_disk``); the disk -> hemisphere map ``z = 1 - r^2`` is equal-area.
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``) §2, Table 1 and
-Fig. 4 (metals: exact Fresnel, Schlick, F82, F82-tint).
+[ShirleyChiu1997] the concentric disk map (``sampling.concentric_disk``); the disk ->
+hemisphere map ``z = 1 - r^2`` is equal-area.
+[Kutz2021, §2, Table 1, Fig. 4] metals: exact Fresnel, Schlick, F82, F82-tint.
 """
 
 from __future__ import annotations
@@ -413,7 +412,7 @@ def metal_fresnel(name: str, ax=None, n: int = 256, illuminant: str = "D65"):
     """A measured metal's Fresnel reflectance and its approximations, per RGB channel.
 
     Four models of the metal ``name`` (one of ``spectral.METALS``, the shipped spectra of
-    seed 000 Table 1's metals and a few more): the exact conductor Fresnel of the measured
+    the metals of [Kutz2021, Table 1] and a few more): the exact conductor Fresnel of the measured
     n + i k, wavelength by wavelength, turned into linear Rec. 709 by
     ``spectral.reflectance_to_rgb`` (not clipped); Schlick with F0; F82-tint with F0 and the
     tint; Hoffman's original F82 through the exact value at cos theta = 1/7 (clipped to

@@ -15,8 +15,8 @@ and then reports convergence with a false error estimate.
 
 References
 ----------
-- A. C. Genz, A. A. Malik, "An adaptive algorithm for numerical integration over an
-  n-dimensional rectangular region", J. Comput. Appl. Math. 6(4), 1980.
+[GenzMalik1980] the degree-7 rule with its embedded degree-5 rule, and the choice of the
+axis to split by the larger fourth difference.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ BATCH = 1 << 20
 WARP_RANGE = (1.0, 8.0)
 
 # -- Genz–Malik degree-7 rule on [-1, 1]^2 with its embedded degree-5 rule -----------------------
-# Nodes and weights from Genz & Malik (1980) for dimension 2; weights are normalised to the mean
+# Nodes and weights from [GenzMalik1980] for dimension 2; weights are normalised to the mean
 # over the square (they sum to 1), so a region's integral is its area times the weighted sum.
 _L2, _L3, _L4, _L5 = np.sqrt(9 / 70), np.sqrt(9 / 10), np.sqrt(9 / 10), np.sqrt(9 / 19)
 _NODES = np.array(
@@ -187,7 +187,7 @@ def integrate_cells(
     its embedded degree-5 rule (error estimate ``|I7 - I5|``). While a cell's summed error
     exceeds ``tolerance(values)`` of that cell in any channel, its regions whose error in such a
     channel exceeds the tolerance divided by the cell's region count are halved along the axis
-    with the larger fourth difference (largest over the channels; Genz & Malik 1980) and
+    with the larger fourth difference (largest over the channels; [GenzMalik1980]) and
     re-integrated. Each round evaluates the integrand once on the nodes of all new regions.
 
     A rule only sees the integrand at its nodes, so a sliver of support between the nodes (a

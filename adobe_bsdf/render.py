@@ -14,7 +14,7 @@ The camera is orthographic, looking down -z at the unit sphere; y is up in the i
 pixel that hits the sphere traces paths: at a point p the shading normal is p and the
 tangent runs around the vertical axis (so anisotropy shows as brushed rings). At every
 vertex outside the sphere the light is sampled (next-event estimation) and the BSDF is
-sampled; both are combined with the power heuristic (Veach 1997 §9.2). A delta light (the
+sampled; both are combined with the power heuristic [Veach1997, §9.2]. A delta light (the
 sun) is only sampled; a delta BSDF sample only hits the environment. Transmitted rays cross
 the sphere (its far side from inside: t = -2 p.d) until they leave it or ``max_depth``
 vertices have been traced. The path throughput is passed to ``sample`` (dispersion). The

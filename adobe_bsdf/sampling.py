@@ -8,7 +8,7 @@ __all__ = ["concentric_disk", "cosine_hemisphere"]
 
 
 def concentric_disk(u2) -> np.ndarray:
-    """Shirley & Chiu 1997 concentric map of ``u2 in [0, 1)^2`` to the unit disk, ``(..., 2)``."""
+    """[ShirleyChiu1997] concentric map of ``u2 in [0, 1)^2`` to the unit disk, ``(..., 2)``."""
     a = 2.0 * u2[..., 0] - 1.0
     b = 2.0 * u2[..., 1] - 1.0
     first = np.abs(a) > np.abs(b)

@@ -1,4 +1,4 @@
-"""Spectral metals: measured n + i k to the ASM's F0 and F82-tint colours (seed 000 §2).
+"""Spectral metals: measured n + i k to the ASM's F0 and F82-tint colours [Kutz2021, §2].
 
 Public API
 ----------
@@ -6,7 +6,7 @@ Public API
 ``reflectance_to_rgb(wavelengths_nm, R, illuminant="D65")``
                                                 linear Rec. 709 colour of a reflectance spectrum
 ``fit_f82_tint(wavelengths_nm, n, k, illuminant="D65") -> F82TintFit``
-                                                F0 and F82 tint the way seed 000 §2 derives
+                                                F0 and F82 tint the way [Kutz2021, §2] derives
                                                 Table 1, and the fit error over all angles
 
 Colour: a reflectance spectrum R(lambda) lit by the illuminant S(lambda) has
@@ -18,8 +18,9 @@ D65, the Rec. 709 white, this changes the colour by less than 1e-3).
 
 References
 ----------
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``) §2: eqs. 2, 3, 6,
-      Table 1 ("calculated using measured spectral data and the full Fresnel equations").
+[Kutz2021, §2] eqs. 2, 3, 6 and Table 1 ("calculated using measured spectral data and the
+full Fresnel equations").
+[Gulbrandsen2014] the conductor curve ``conductor_from_f82_tint`` searches.
 """
 
 from __future__ import annotations
@@ -141,7 +142,7 @@ class F82TintFit(NamedTuple):
 
 
 def fit_f82_tint(wavelengths_nm, n, k, illuminant: str = "D65", n_angles: int = 1001):
-    """F0 and F82 tint of a measured metal (seed 000 §2, Table 1).
+    """F0 and F82 tint of a measured metal [Kutz2021, §2, Table 1].
 
     The exact unpolarised conductor Fresnel reflectance of n + i k is computed per
     wavelength at cos theta = 1 and at cos theta_max = 1/7 (eq. 2) and turned into linear
@@ -167,7 +168,7 @@ def fit_f82_tint(wavelengths_nm, n, k, illuminant: str = "D65", n_angles: int = 
 def conductor_from_f82_tint(f0, tint, iterations: int = 64):
     """An effective complex index per channel for an F82-tint metal: the exact conductor
     whose reflectance is ``f0`` at cos theta = 1 and h = tint Schlick(f0, 1/7) at cos theta =
-    1/7 (seed 000 eq. 6), so that the exact Fresnel passes through both points F82-tint
+    1/7 [Kutz2021, eq. 6], so that the exact Fresnel passes through both points F82-tint
     fixes.
 
     It is searched on Gulbrandsen's curve of reflectivity ``f0`` (every point has F(1) =

@@ -43,7 +43,7 @@ def components() -> list:
 
 def _weighted_sum(parts, weights):
     """``Sum(*parts, weights=weights)``, or ``None`` if ``Sum`` has no ``weights`` keyword."""
-    from adobe_bsdf.lobes import Sum
+    from adobe_bsdf.composition import Sum
 
     try:
         return Sum(*parts, weights=weights)
@@ -60,7 +60,7 @@ def _time(lobe, call, n, wo, wi, u, runs) -> dict:
 
 
 def run(wo, wi, u, smoke: bool = False) -> dict:
-    from adobe_bsdf.lobes import Sum
+    from adobe_bsdf.composition import Sum
 
     n = tp.SMOKE_SIZES[-1] if smoke else tp.SLICE
     runs = tp.SMOKE_RUNS if smoke else tp.RUNS

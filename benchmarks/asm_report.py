@@ -98,7 +98,8 @@ def measure_furnace():
 def markdown_furnace(rows):
     out = ["", "## White metal furnace", "",
            "`materials.asm.asm_metal(1, 1, roughness, anisotropy_level)`: F = 1, so single "
-           "scattering plus the Kulla–Conty term should reflect everything. Max |E − 1| over cos θ_o ∈ "
+           "scattering plus the Kulla–Conty term should reflect everything. Max |E − 1| over "
+           "cos θ_o ∈ "
            "{1, 0.5, 0.1, 0.02}. The multiple-scattering tables are isotropic and are looked "
            "up at α = √(α_x α_y); anisotropic lobes lose what that approximation misses.", "",
            "| anisotropy_level | " + " | ".join(f"r = {r:g}" for r, a, _ in rows if a == 0.0)

@@ -1,4 +1,4 @@
-"""The ASM metal lobe: F82-tint Fresnel, anisotropy, rotation, Kulla–Conty (seed 000 §1-3)."""
+"""The ASM metal lobe: F82-tint Fresnel, anisotropy, rotation, Kulla–Conty [Kutz2021, §1-3]."""
 
 import numpy as np
 import pytest
@@ -30,7 +30,7 @@ def test_f82_tint_object_is_the_function():
 @pytest.mark.parametrize("roughness", [0.05, 0.3, 0.7, 1.0])
 def test_white_metal_furnace(roughness):
     """Base and edge colour 1 (F = 1): single + Kulla–Conty multiple scattering is 1 within
-    the tables' interpolation error (seed 000 Fig. 2; acceptance 1e-3)."""
+    the tables' interpolation error ([Kutz2021, Fig. 2]; acceptance 1e-3)."""
     lobe = ab.materials.asm.asm_metal(1.0, 1.0, roughness)
     for c in (1.0, 0.5, 0.1, 0.02):
         np.testing.assert_allclose(lobe.albedo(_wo(c), tol=1e-8), 1.0, atol=FURNACE_TABLE)

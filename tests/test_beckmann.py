@@ -1,6 +1,6 @@
 """Beckmann distribution: normalisation, Smith masking, visible-normal sampling (chi-square),
 extremes; and the Conductor and Dielectric lobes built on it (chi-square, reciprocity, sample
-weights, furnace). Seed 002 Table 2 uses it beside GGX for hazy gloss; the comparison with
+weights, furnace). [Barla2018, Table 2] uses it beside GGX for hazy gloss; the comparison with
 Mitsuba 3's Beckmann lobes is in ``test_mitsuba_crosscheck.py``."""
 
 import numpy as np
@@ -17,7 +17,7 @@ from tests.tolerances import CHI2_ALPHA, EXACT, FURNACE, QUADRATURE, RECIPROCITY
 
 @pytest.mark.parametrize(("ax", "ay"), ALPHAS)
 def test_projected_area_normalisation(ax, ay):
-    """int D(m) cos theta_m dm = 1 (Heitz 2014 eq. 2)."""
+    """int D(m) cos theta_m dm = 1 [Heitz2014, eq. 2]."""
     b = Beckmann(ax, ay)
     assert hemisphere_integral(lambda m: b.D(m) * m[..., 2]) == pytest.approx(1.0, abs=QUADRATURE)
 
@@ -25,15 +25,15 @@ def test_projected_area_normalisation(ax, ay):
 @pytest.mark.parametrize(("ax", "ay"), ALPHAS)
 @pytest.mark.parametrize("w", [(0.5, -0.3, 0.4), (0.0, 0.0, 1.0), (0.9, 0.1, 0.05)])
 def test_visible_normals_normalised(ax, ay, w):
-    """int D_w(m) dm = 1: Lambda is the Smith masking of this D (Heitz 2014 eq. 11)."""
+    """int D_w(m) dm = 1: Lambda is the Smith masking of this D [Heitz2014, eq. 11]."""
     b = Beckmann(ax, ay)
     w = ab.frame.normalize(np.array(w))
     assert visible_integral(lambda m: b.pdf_visible(w, m), w) == pytest.approx(1.0, abs=QUADRATURE)
 
 
 def test_D_and_lambda_closed_forms():
-    """D in angles (Walter et al. 2007 eq. 25) and Lambda in its textbook erf form
-    (Heitz 2014 eq. 83) where that form is well conditioned."""
+    """D in angles [Walter2007, eq. 25] and Lambda in its textbook erf form
+    [Heitz2014, eq. 83] where that form is well conditioned."""
     ax, ay = 0.3, 0.7
     b = Beckmann(ax, ay)
     t, p = np.meshgrid(np.linspace(0, 1.5, 7), np.linspace(0, 6, 9))
@@ -156,8 +156,8 @@ def _direction(cos_theta, phi=0.7):
 
 @pytest.mark.parametrize(("kind", "alpha", "eta", "cos_theta"), LOBE_CASES, ids=str)
 def test_chi2_beckmann_lobes(kind, alpha, eta, cos_theta):
-    """``sample`` draws directions with density ``pdf`` (p > 0.01 after Šidák), seed 002
-    acceptance 3."""
+    """``sample`` draws directions with density ``pdf`` (p > 0.01 after Šidák), the
+    hazy-gloss acceptance 3."""
     from tests.test_lobes_chi2 import grid
 
     wo = _direction(cos_theta)

@@ -1,4 +1,4 @@
-"""ASM dispersion (seed 000 §4): eqs. 11-13, Table 2, Cauchy's equation per channel."""
+"""ASM dispersion [Kutz2021, §4]: eqs. 11-13, Table 2, Cauchy's equation per channel."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ import adobe_bsdf as ab
 from adobe_bsdf import dispersion as D
 from tests.tolerances import EXACT
 
-#: seed 000 Table 2, the "Dispersion" column as printed (4 decimals)
+#: [Kutz2021, Table 2], the "Dispersion" column as printed (4 decimals)
 TABLE_2 = {"N-FK58": 0.2200, "N-BK7": 0.3117, "N-BAK4": 0.3573, "water": 0.3586,
            "diamond": 0.3617, "F2": 0.5499, "N-SF66": 0.9579}
 
@@ -44,7 +44,7 @@ def test_zero_dispersion_is_exactly_the_ior_and_textures_broadcast():
     n = D.cauchy_iors(np.array([1.3, 1.5, 2.4]), np.array([[0.0], [1.0]]))
     assert n.shape == (2, 3, 3) and np.all(np.isfinite(n))
     np.testing.assert_array_equal(n[0], np.repeat([[1.3], [1.5], [2.4]], 3, axis=1))
-    # the spread grows linearly with the parameter (seed 000 §4), beyond 1 too
+    # the spread grows linearly with the parameter [Kutz2021, §4], beyond 1 too
     spread = [np.ptp(D.cauchy_iors(1.5, d)) for d in (0.5, 1.0, 2.0)]
     np.testing.assert_allclose(spread, [spread[0], 2 * spread[0], 4 * spread[0]], rtol=EXACT)
 

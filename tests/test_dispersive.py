@@ -1,5 +1,5 @@
 """``Dispersive`` and ``asm_dielectric``: the ASM's dispersive, anisotropic specular
-transmission (seed 000 §3-4)."""
+transmission [Kutz2021, §3-4]."""
 
 import numpy as np
 import pytest

@@ -10,12 +10,13 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the modules ``docs/reference.md`` documents
-MODULES = ("adobe_bsdf", "adobe_bsdf.bsdf", "adobe_bsdf.frame", "adobe_bsdf.fresnel",
-           "adobe_bsdf.microfacet", "adobe_bsdf.lobes", "adobe_bsdf.layering",
-           "adobe_bsdf.materials", "adobe_bsdf.hazy", "adobe_bsdf.dispersion",
-           "adobe_bsdf.spectral", "adobe_bsdf.media", "adobe_bsdf.quadrature",
-           "adobe_bsdf.tables", "adobe_bsdf.render", "adobe_bsdf.plot", "adobe_bsdf.validation",
-           "adobe_bsdf.config", "adobe_bsdf.registry")
+MODULES = ("adobe_bsdf", "adobe_bsdf.bsdf", "adobe_bsdf.composition", "adobe_bsdf.frame",
+           "adobe_bsdf.fresnel", "adobe_bsdf.microfacet", "adobe_bsdf.lobes",
+           "adobe_bsdf.materials", "adobe_bsdf.materials.spec", "adobe_bsdf.materials.asm",
+           "adobe_bsdf.haze", "adobe_bsdf.hazy", "adobe_bsdf.dispersion", "adobe_bsdf.spectral",
+           "adobe_bsdf.media", "adobe_bsdf.quadrature", "adobe_bsdf.tables", "adobe_bsdf.render",
+           "adobe_bsdf.plot", "adobe_bsdf.validation", "adobe_bsdf.validation.cases",
+           "adobe_bsdf.config")
 
 
 def test_site_builds_strictly_with_every_public_name(tmp_path):

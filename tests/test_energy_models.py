@@ -1,7 +1,7 @@
-"""The table-based models: ASM energy-conserving diffuse (seed 000 §1.1 eq. 1) and
-Kulla–Conty multiple scattering for conductors and dielectrics (seed 000 §1.2).
+"""The table-based models: ASM energy-conserving diffuse [Kutz2021, §1.1 eq. 1] and
+Kulla–Conty multiple scattering for conductors and dielectrics [Kutz2021, §1.2].
 
-Acceptance (the white furnace of seed 000 Fig. 2, as numbers): every albedo below is
+Acceptance (the white furnace of [Kutz2021, Fig. 2], as numbers): every albedo below is
 integrated from ``eval`` by direction-space cubature, independently of the tables' own
 consistency, and must be 1 within the stated tolerance.
 """
@@ -104,7 +104,7 @@ def test_dielectric_kulla_conty_generalized_reciprocity(eta, alpha, pair):
 
 
 def test_asm_diffuse_is_separable():
-    """D(a, b) D(c, d) = D(a, d) D(c, b): D = rho X(wi) X(wo) (seed 000 §1.1)."""
+    """D(a, b) D(c, d) = D(a, d) D(c, b): D = rho X(wi) X(wo) [Kutz2021, §1.1]."""
     rng = np.random.default_rng(3)
     w = rng.normal(size=(4, 2000, 3))
     w[..., 2] = np.abs(w[..., 2])

@@ -13,7 +13,7 @@ GOLD_K = np.array([3.983, 2.385, 1.603])
 
 
 def born_wolf_conductor(mu, n, k):
-    """Complex-amplitude form of the absorbing-medium Fresnel equations (Born & Wolf §13.2):
+    """Complex-amplitude form of the absorbing-medium Fresnel equations [BornWolf1980, §13.2]:
     n c_t = sqrt(n^2 - sin^2) on the principal branch, r_s = (c - n c_t) / (c + n c_t),
     r_p = (n^2 c - n c_t) / (n^2 c + n c_t), R = (|r_s|^2 + |r_p|^2) / 2. (The library
     computes the real-arithmetic form of the same moduli.)"""
@@ -60,7 +60,7 @@ def test_dielectric_index_matched_and_limits():
 @pytest.mark.parametrize(("eta", "expected"), [(1.33, 0.06593), (1.5, 0.09178), (1.6, 0.10625),
                                                (2.0, 0.16060), (1 / 1.5, 0.59635)])
 def test_dielectric_hemispherical_albedo_published(eta, expected):
-    """shared/reference/published_values.md §4 (5 significant digits)."""
+    """E_F(eta) = 2 int F mu dmu against values integrated independently (5 significant digits)."""
     value = 2.0 * quad(lambda m: F.dielectric(m, eta) * m, 0, 1, epsabs=1e-13, limit=200)[0]
     assert value == pytest.approx(expected, abs=PUBLISHED_5)
 
@@ -104,14 +104,14 @@ def test_conductor_normal_incidence_and_dielectric_limit():
 # --- Schlick, F82, F82-tint --------------------------------------------------------------
 @pytest.mark.parametrize("f0", [0.04, 0.5, 0.9])
 def test_schlick_average_closed_form(f0):
-    """2 int F_Schlick mu dmu = F0 + (1 - F0)/21 (published_values.md §3)."""
+    """2 int F_Schlick mu dmu = F0 + (1 - F0)/21 (closed form: 2 B(2, 6) = 1/21)."""
     value = 2 * quad(lambda m: F.schlick(m, f0)[0] * m, 0, 1, epsabs=1e-14)[0]
     assert value == pytest.approx(f0 + (1 - f0) / 21, abs=1e-12)
 
 
 @pytest.mark.parametrize(("f0", "tint", "expected"), [(0.9, 0.8, 0.878249), (0.5, 0.9, 0.513564)])
 def test_f82_tint_average_published(f0, tint, expected):
-    """OpenPBR footnote avg_fresnel_f82 values (published_values.md §3)."""
+    """2 int F mu dmu of F82-tint: the closed form F0 + (1 - F0)/21 - b/126 (2 B(3, 7) = 1/126)."""
     value = 2 * quad(lambda m: F.f82_tint(m, f0, tint)[0] * m, 0, 1, epsabs=1e-14)[0]
     assert value == pytest.approx(expected, abs=1e-6)
     b = (f0 + (1 - f0) * (6 / 7) ** 5) * (1 - tint) / ((1 / 7) * (6 / 7) ** 6)
@@ -119,7 +119,7 @@ def test_f82_tint_average_published(f0, tint, expected):
 
 
 def test_f82_tint_matches_the_reference_listing_form():
-    """seed 000 §2.4 factorises F = r + (1 - r - b mu (1 - mu)) (1 - mu)^5."""
+    """[Kutz2021, §2.4] factorises F = r + (1 - r - b mu (1 - mu)) (1 - mu)^5."""
     mu = np.linspace(0, 1, 101)[:, None]
     r = np.array([0.9868, 0.7099, 0.3148])
     t = np.array([0.9929, 0.9636, 0.9099])
@@ -131,10 +131,10 @@ def test_f82_tint_matches_the_reference_listing_form():
 def test_f82_tint_defining_properties():
     mu = np.linspace(0, 1, 65)
     f0, tint = np.array([0.95, 0.64, 0.54]), np.array([0.8, 0.9, 0.7])
-    # white tint is Schlick; the value at mu_max is tint x Schlick (seed 000 eq. 6)
+    # white tint is Schlick; the value at mu_max is tint x Schlick [Kutz2021, eq. 6]
     np.testing.assert_allclose(F.f82_tint(mu, f0, 1.0), F.schlick(mu, f0), atol=EXACT)
     np.testing.assert_allclose(F.f82_tint(1 / 7, f0, tint), tint * F.schlick(1 / 7, f0), atol=EXACT)
-    # generalized (seed 001 eqs. 5-6): same property with r90 and exponent
+    # generalized [Hoffman2023, eqs. 5-6]: same property with r90 and exponent
     f90, alpha = np.array([0.9, 0.8, 1.0]), 3.0
     np.testing.assert_allclose(F.f82_tint(1 / 7, f0, tint, f90, alpha),
                                tint * F.schlick(1 / 7, f0, f90, alpha), atol=EXACT)
@@ -148,7 +148,7 @@ def test_f82_original_model():
     f0, h = np.array([0.9, 0.6, 0.3]), np.array([0.85, 0.55, 0.35])
     np.testing.assert_allclose(F.f82(1 / 7, f0, h), h, atol=EXACT)
     np.testing.assert_allclose(F.f82(1.0, f0, h), f0, atol=EXACT)
-    # seed 000 Fig. 4: with a white F82 the original model exceeds 1 ("glowing edges")
+    # [Kutz2021, Fig. 4]: with a white F82 the original model exceeds 1 ("glowing edges")
     assert F.f82(0.05, 0.5, 1.0).max() > 1.0
 
 
@@ -263,7 +263,7 @@ def test_gulbrandsen_k_equals_the_textbook_form(r, g):
 
 def test_gulbrandsen_zero_edge_tint_is_a_dielectric():
     """g = 0: k = 0 exactly and eta = (1 + sqrt r) / (1 - sqrt r), whose dielectric Fresnel
-    at normal incidence is r (seed 002 §4: kappa vanishes with g)."""
+    at normal incidence is r ([Barla2018, §4]: kappa vanishes with g)."""
     r = np.linspace(0.0, 0.95, 20)
     eta, k = ab.fresnel.gulbrandsen_to_ior(r, 0.0)
     assert np.all(k == 0.0)

@@ -1,4 +1,4 @@
-"""Haze mapping of seed 002 (Barla, Pacanowski, Vangorp 2018): the paper's claims as tests."""
+"""Haze mapping of hazy gloss [Barla2018]: the paper's claims as tests."""
 
 import numpy as np
 import pytest
@@ -70,7 +70,7 @@ def test_bezier_root_is_on_the_curve_and_tends_to_eq7():
     p, beta_h = 0.3, 0.8
     for w in (0.5, 1.0, 2.0, 8.0):
         b = 2.0 * (r * (1.0 - w) + w * p)
-        u = hazy._bezier_parameter(r, p, w)
+        u = ab.haze._bezier_parameter(r, p, w)
         den = (1 - u) ** 2 + 2 * (1 - u) * u * w + u * u
         np.testing.assert_allclose((2 * (1 - u) * u * w * p + u * u) / den, r, atol=1e-14)
         np.testing.assert_allclose(hazy.haze_intensity_smooth(r, p, beta_h, w),
@@ -91,7 +91,7 @@ def test_bezier_near_b_equal_one_matches_the_papers_taylor_window():
     for d in (1e-4, 1e-5, -1e-5):
         r = r_star + d
         u_taylor = (2 * w * p - 1 - (4 * w * w * p * p - 4 * w * w * p + 1) * d) / (2 * (w - 1))
-        u = hazy._bezier_parameter(r, p, w)
+        u = ab.haze._bezier_parameter(r, p, w)
         assert abs(u - u_taylor) <= 10 * d * d
     assert np.isfinite(hazy.haze_intensity_smooth(r_star, p, beta_h, w))
 
@@ -299,8 +299,8 @@ def test_fig8_sweep_matches_its_caption():
 # --- compound masking and the transmission variant --------------------------------------------
 @pytest.mark.parametrize("model", hazy.PEAK_MODELS)
 def test_compound_lambda_is_the_smith_lambda_of_the_mixture(model):
-    """Seed 002 §3: Lambda = (1 - beta) Lambda_n + beta Lambda_w is the Smith Lambda of the
-    mixed distribution: its visible normals integrate to 1 (Heitz 2014 eq. 11), its
+    """[Barla2018, §3]: Lambda = (1 - beta) Lambda_n + beta Lambda_w is the Smith Lambda of the
+    mixed distribution: its visible normals integrate to 1 [Heitz2014, eq. 11], its
     projected area is 1, and sample_visible draws them (chi-square)."""
     from tests.test_beckmann import _VisibleNormals
     from tests.test_microfacet import hemisphere_integral, visible_integral

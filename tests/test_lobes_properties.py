@@ -84,7 +84,7 @@ def test_outputs_finite_and_non_negative(lobe, pair, u):
 
 
 def _half_vector(lobe, wo, wi):
-    eta = float(getattr(lobe, "eta", 1.0))
+    eta = 1.0 if lobe.eta is None else float(lobe.eta)
     eta_o, eta_i = (1.0 if wo[2] > 0 else eta), (1.0 if wi[2] > 0 else eta)
     h = wo + wi if wo[2] * wi[2] > 0 else -(eta_o * wo + eta_i * wi)
     return h / np.linalg.norm(h), np.linalg.norm(h)
@@ -110,7 +110,7 @@ def half_vector_tolerance(lobe, wo, wi):
     if not hasattr(lobe, "distribution"):
         return WEIGHT
     alpha = min(float(lobe.distribution.alpha_x), float(lobe.distribution.alpha_y))
-    eta = float(getattr(lobe, "eta", 1.0))
+    eta = 1.0 if lobe.eta is None else float(lobe.eta)
     h, length = _half_vector(lobe, wo, wi)
     cosines = 1.0 / abs(wo @ h) + 1.0 / abs(wi @ h)
     amplification = 1.0 / (alpha * length) + cosines * (1.0 + 1.0 / length)

@@ -1,4 +1,4 @@
-"""The ASM subsurface mapping (seed 000 §5): scattering distance and colour to a medium."""
+"""The ASM subsurface mapping [Kutz2021, §5]: scattering distance and colour to a medium."""
 
 import numpy as np
 import pytest

@@ -41,14 +41,14 @@ def visible_integral(f, w):
 
 @pytest.mark.parametrize(("ax", "ay"), ALPHAS)
 def test_projected_area_normalisation(ax, ay):
-    """int D(m) cos theta_m dm = 1 (Heitz 2014 eq. 2)."""
+    """int D(m) cos theta_m dm = 1 [Heitz2014, eq. 2]."""
     g = ab.GGX(ax, ay)
     assert hemisphere_integral(lambda m: g.D(m) * m[..., 2]) == pytest.approx(1.0, abs=QUADRATURE)
 
 
 @pytest.mark.parametrize(("ax", "ay"), ALPHAS)
 def test_visible_normals_normalised(ax, ay):
-    """int D_w(m) dm = 1, i.e. G1 is the Smith masking of this D (Heitz 2014 eq. 11)."""
+    """int D_w(m) dm = 1, i.e. G1 is the Smith masking of this D [Heitz2014, eq. 11]."""
     g = ab.GGX(ax, ay)
     w = ab.frame.normalize(np.array([0.5, -0.3, 0.4]))
     value = visible_integral(lambda m: g.pdf_visible(w, m), w)
@@ -70,7 +70,7 @@ def test_lambda_G1_G2_identities():
     rng = np.random.default_rng(3)
     wo = ab.frame.normalize(rng.normal(size=(100, 3)))
     wi = ab.frame.normalize(rng.normal(size=(100, 3)))
-    # Heitz 2014 eq. 86 in its textbook form
+    # [Heitz2014, eq. 86] in its textbook form
     a2 = (0.4**2 * wo[:, 0] ** 2 + 0.2**2 * wo[:, 1] ** 2) / wo[:, 2] ** 2
     np.testing.assert_allclose(g.lambda_(wo), (np.sqrt(1 + a2) - 1) / 2, rtol=1e-12)
     np.testing.assert_allclose(g.G1(wo), 1 / (1 + g.lambda_(wo)), rtol=1e-13)
@@ -86,7 +86,7 @@ def test_lambda_G1_G2_identities():
 
 
 def test_alpha_one_normal_view_albedo_is_one_minus_ln2():
-    """published_values.md §3: alpha = 1, mu_o = 1 -> G = 2 mu_i / (1 + mu_i) (both forms)."""
+    """Closed form: alpha = 1, mu_o = 1 -> G = 2 mu_i / (1 + mu_i) (both forms)."""
     mu = np.linspace(0.01, 1, 50)
     wi = np.stack([np.sqrt(1 - mu**2), 0 * mu, mu], -1)
     for masking in ("correlated", "separable"):
@@ -118,7 +118,7 @@ def test_extremes_and_smooth_limit():
 @pytest.mark.parametrize(("r", "a", "ax", "ay"), [(0.5, 0.0, 0.25, 0.25), (0.5, 0.5, 0.3125, 0.25),
                                                   (0.5, 1.0, 1.25, 0.25), (0.3, 0.8, 0.4996, 0.09)])
 def test_asm_alpha_published(r, a, ax, ay):
-    """seed 000 eqs. 9-10; values of published_values.md §5."""
+    """[Kutz2021, eqs. 9-10], alpha_x = r^2 + a^4, alpha_y = r^2, at values worked out by hand."""
     assert ab.materials.asm.asm_alpha(r, a) == pytest.approx((ax, ay), abs=1e-12)
 
 

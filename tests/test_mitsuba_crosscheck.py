@@ -50,7 +50,7 @@ FLOAT32_TINY = float(np.finfo(np.float32).tiny)
 #: (alpha_x, alpha_y): three isotropic roughnesses and two anisotropic pairs
 ALPHAS = [(0.05, 0.05), (0.3, 0.3), (1.0, 1.0), (0.05, 0.3), (0.5, 0.1)]
 #: RGB complex indices (eta, k): gold-like values, and copper (pbrt-v4's data) and iron
-#: (Johnson & Christy 1974) at 650/550/450 nm; ``None``: a perfect mirror (F = 1)
+#: [JohnsonChristy1974] at 650/550/450 nm; ``None``: a perfect mirror (F = 1)
 METALS = {
     "gold": ((0.143, 0.374, 1.442), (3.983, 2.385, 1.603)),
     "copper": ((0.2166, 0.9582, 1.1658), (3.6377, 2.5771, 2.3939)),
@@ -94,7 +94,7 @@ def _fresnel_dielectric(cos_o, ratio):
 def _reference(wo, wi, ax, ay, eta=None):
     """Radiance-mode f (no cosine) and pdf: a mirror conductor (F = 1) or a dielectric.
 
-    Walter et al. 2007 with separable Smith masking, visible-normal sampling (Heitz 2018) and
+    [Walter2007] with separable Smith masking, visible-normal sampling [Heitz2018] and
     pbrt-v4's radiance-mode transmission ``eta_o^2 (1 - F) D G |wo.m wi.m| /
     (|wo_z wi_z| (eta_o wo.m + eta_i wi.m)^2)``.
     """
@@ -286,7 +286,7 @@ def test_dielectric_matches_mitsuba(eta, alpha, record_property):
     _crosscheck(f"dielectric {eta} alpha={alpha}", ours, theirs, wo, wi, record_property)
 
 
-#: the Beckmann lobes against Mitsuba's ``distribution = "beckmann"`` (seed 002 Table 2)
+#: the Beckmann lobes against Mitsuba's ``distribution = "beckmann"`` [Barla2018, Table 2]
 BECKMANN_ALPHAS = [(0.05, 0.05), (0.3, 0.3), (0.5, 0.1)]
 #: largest exponent e = ((mx/ax)^2 + (my/ay)^2) / mz^2 of a compared pair: float32's exp(-e)
 #: carries a relative error ~ e 2^-24 (1e-5 at e = 45, measured), and Mitsuba drops D in the
@@ -295,7 +295,7 @@ BECKMANN_MAX_EXPONENT = 20.0
 
 
 class _WalterMasking:
-    """Mitsuba's Beckmann G1 is the rational approximation of Walter et al. 2007 eq. 27,
+    """Mitsuba's Beckmann G1 is the rational approximation of [Walter2007, eq. 27],
     (3.535 a + 2.181 a^2) / (1 + 2.276 a + 2.577 a^2) for a = 1 / (alpha tan theta) < 1.6,
     else 1 (0.35% from the exact Smith G1). Our values are multiplied by G1_Walter / G1 of
     each direction (``rescale``) so that the comparison tests everything else exactly."""

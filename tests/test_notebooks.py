@@ -1,12 +1,15 @@
 """The notebooks run headless in their small-sample mode, and are committed without outputs."""
 
 import os
+import re
 import time
 from pathlib import Path
 
 import nbclient
 import nbformat
 import pytest
+
+from tests.test_architecture import _bibliography_keys
 
 NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 EXPECTED = ("01_conventions_and_ggx", "02_fresnel_and_metals", "03_energy_conservation",
@@ -29,7 +32,9 @@ def test_committed_without_outputs(path):
     for cell in nb.cells:
         if cell.cell_type == "code":
             assert cell.outputs == [] and cell.execution_count is None, (path.name, cell.source)
-    assert nb.cells[0].cell_type == "markdown" and "seed" in nb.cells[0].source.lower()
+    assert nb.cells[0].cell_type == "markdown"
+    cited = set(re.findall(r"\[([A-Z][A-Za-z'-]*\d{4}[a-z]?)[,\]]", nb.cells[0].source))
+    assert cited and cited <= _bibliography_keys(), (path.name, cited)
 
 
 @pytest.mark.parametrize("path", _paths(), ids=lambda p: p.stem)

@@ -60,7 +60,7 @@ def test_threshold_is_the_transmitted_lobe_width():
 
 
 def _ggx_lambda(alpha_x, alpha_y, wo):
-    """Heitz 2014 eq. 86: (-1 + sqrt(1 + alpha(phi)^2 tan^2)) / 2 with
+    """[Heitz2014, eq. 86]: (-1 + sqrt(1 + alpha(phi)^2 tan^2)) / 2 with
     alpha(phi)^2 = alpha_x^2 cos^2 phi + alpha_y^2 sin^2 phi."""
     x, y, z = wo
     tan2_alpha2 = (alpha_x**2 * x * x + alpha_y**2 * y * y) / (z * z)

@@ -1,5 +1,6 @@
 """adobe_bsdf.plot: the data each figure draws, recomputed independently, and bad input."""
 
+import re
 import subprocess
 import sys
 
@@ -14,6 +15,7 @@ import adobe_bsdf as ab  # noqa: E402
 from adobe_bsdf import plot, spectral  # noqa: E402
 from adobe_bsdf.bsdf import luminance  # noqa: E402
 from adobe_bsdf.validation import chi2_test  # noqa: E402
+from tests.test_architecture import _bibliography_keys  # noqa: E402
 from tests.tolerances import EXACT  # noqa: E402
 
 #: a rough anisotropic dielectric: reflection, transmission and azimuth dependence
@@ -131,7 +133,7 @@ def test_hemisphere_image_concentric_pixels_and_pdf():
 
 
 def _triangle_solid_angle(a, b, c):
-    """Solid angle of spherical triangles (Van Oosterom and Strackee 1983)."""
+    """Solid angle of spherical triangles [VanOosteromStrackee1983]."""
     triple = np.abs(np.sum(a * np.cross(b, c), axis=-1))
     den = 1.0 + np.sum(a * b, -1) + np.sum(b * c, -1) + np.sum(c * a, -1)
     return 2.0 * np.arctan2(triple, den)
@@ -230,14 +232,14 @@ def test_fresnel_curves_rgb_and_grey_models():
     assert [line.get_label() for line in lines] == ["Schlick R", "Schlick G", "Schlick B",
                                                     "glass"]
     f0 = np.array([0.9, 0.5, 0.2])
-    for c in range(3):  # Schlick 1994 written out
+    for c in range(3):  # [Schlick1994] written out
         np.testing.assert_allclose(lines[c].get_ydata(), f0[c] + (1 - f0[c]) * (1 - mu) ** 5,
                                    rtol=EXACT)
     np.testing.assert_allclose(lines[3].get_ydata()[-1], (0.5 / 2.5) ** 2, rtol=EXACT)
 
 
 def _exact_spectral_fresnel(mu, eta, k):
-    """Conductor reflectance (angles, wavelengths) in complex arithmetic (Born & Wolf)."""
+    """Conductor reflectance (angles, wavelengths) in complex arithmetic [BornWolf1980]."""
     n2 = (eta + 1j * k) ** 2
     c = mu[:, None]
     w = np.sqrt(n2 - (1.0 - c * c))  # n cos theta_t, principal branch
@@ -283,18 +285,19 @@ def test_sphere_grid_shows_each_render_with_its_label():
         expected = ab.render.to_srgb8(ab.render.sphere(lobe, "sun", size=8, spp=2, seed=3,
                                                        progress=False))
         np.testing.assert_array_equal(ax.images[0].get_array(), expected)
-    scene = ab.paper_figures.Scene("two greys", "seed 000 Fig. 0", "furnace", 2,
+    scene = ab.paper_figures.Scene("two greys", "[Kutz2021, Fig. 0]", "furnace", 2,
                                    {"a": ab.lobes.Lambert(0.5), "b": ab.lobes.Lambert(0.25)},
                                    zoom=1.5)
     fig = plot.sphere_grid(scene, size=8, spp=1)
-    assert "seed 000 Fig. 0" in fig.texts[0].get_text()
+    assert "[Kutz2021, Fig. 0]" in fig.texts[0].get_text()
     assert fig.axes[0].images[0].get_array().shape == (12, 12, 3)
 
 
 def test_every_paper_scene_builds():
     for name, make in ab.paper_figures.SCENES.items():
         scene = make()
-        assert scene.source.startswith("seed 00"), name
+        key = re.match(r"\[([A-Z][A-Za-z'-]*\d{4}[a-z]?)[,\]]", scene.source)
+        assert key and key[1] in _bibliography_keys(), (name, scene.source)
         assert scene.env in ("furnace", "sun", "sky", "studio")
         assert all(isinstance(m, ab.Lobe) for m in scene.materials.values())
 

@@ -1,7 +1,7 @@
 """Chi-square of razor-thin anisotropic lobes (ASM roughness 0, anisotropy 1) through
 ``validation.stretch``.
 
-alpha_x = r^2 + a^4 = 1, alpha_y = ALPHA_MIN = 1e-8 (seed 000 eqs. 9-10): the lobe's directions
+alpha_x = r^2 + a^4 = 1, alpha_y = ALPHA_MIN = 1e-8 [Kutz2021, eqs. 9-10]: the lobe's directions
 lie within ~1e-8 rad of the plane spanned by its tangent and the normal. ``Stretched`` maps the
 sphere by w -> A w / |A w| with the exact Jacobian |det A| / |A w|^3, so a chi-square test of the
 mapped lobe is a test of the lobe; ``ridge_stretch(phi, 1e7)`` makes the ridge ~0.2 rad wide.
@@ -69,8 +69,7 @@ class _Mismatched:
 
 
 def _triangle_solid_angle(a, b, c):
-    """Solid angle of the spherical triangle of unit vectors a, b, c (Van Oosterom and
-    Strackee 1983)."""
+    """Solid angle of the spherical triangle of unit vectors a, b, c [VanOosteromStrackee1983]."""
     num = np.abs(np.einsum("...i,...i", a, np.cross(b, c)))
     den = 1.0 + np.einsum("...i,...i", a, b) + np.einsum("...i,...i", b, c) + np.einsum(
         "...i,...i", c, a)

@@ -1,4 +1,4 @@
-"""``Rotated``: the ASM anisotropy rotation (seed 000 §3) of the conductor and dielectric."""
+"""``Rotated``: the ASM anisotropy rotation [Kutz2021, §3] of the conductor and dielectric."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The ASM sheen (seed 000 §6, eqs. 15-18): formulas, the SGGX fibre normalisation, sampling,
+"""The ASM sheen [Kutz2021, §6, eqs. 15-18]: formulas, the SGGX fibre normalisation, sampling,
 reciprocity, the albedo table and the energy claim of c = 2."""
 
 import numpy as np
@@ -71,7 +71,7 @@ def _D(r, h):
 
 @pytest.mark.parametrize("r", [0.05, 0.3, 0.8, 1.0])
 def test_fibre_distribution_normalisation(r):
-    """SGGX normalisation (Heitz et al. 2015): int <w, h>_+ D(h) dh = sigma(w), the projected
+    """SGGX normalisation [Heitz2015]: int <w, h>_+ D(h) dh = sigma(w), the projected
     area; int D over the sphere is the fibre ellipsoid's area over pi, 2 r + 2 acos(r) /
     sqrt(1 - r^2) (4 at r = 1), not 1. By scipy quadrature over cos theta_h, with the
     azimuthal integral of max(<w, h>, 0) in closed form."""
@@ -254,7 +254,7 @@ def test_table_method_needs_p_one():
 
 
 def test_energy_claim_of_c_2():
-    """Seed 000 §6: with c = 2 the BRDF is still energy-conserving. Every table row is
+    """[Kutz2021, §6]: with c = 2 the BRDF is still energy-conserving. Every table row is
     non-increasing in mu at the nodes (between them, small roughnesses have a shallow minimum
     near normal incidence, docs/sheen_measured.md), and no node exceeds the grazing limit
     c/2 = 1: the claim holds with no margin at grazing. Spot checks by both quadratures."""

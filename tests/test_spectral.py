@@ -1,4 +1,4 @@
-"""Spectral metals (seed 000 §2, Table 1): measured n + i k to F0 and F82 tint."""
+"""Spectral metals [Kutz2021, §2, Table 1]: measured n + i k to F0 and F82 tint."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ import adobe_bsdf as ab
 from adobe_bsdf import spectral
 from tests.tolerances import EXACT
 
-#: Table 1 metals and the shipped data set that reproduces them. Werner et al. 2009 give n, k
+#: Table 1 metals and the shipped data set that reproduces them. [Werner2009] give n, k
 #: at 9 wavelengths (354-827 nm), linearly interpolated: the RGB integrals then carry an
 #: interpolation error of several 1e-3, the size of the differences measured here (max 6.2e-3
 #: for F0, 2.0e-3 for the tint, docs/asm_measured.md)

@@ -16,7 +16,8 @@
 ``HazyGloss(...)``, ``HazyDielectric(...)``                  hazy gloss [Barla2018]
 
 Operators that combine lobes (``Sum``, ``Layer``, ``Rotated``) are in
-``adobe_bsdf.composition``; material recipes (the ASM's) under ``adobe_bsdf.materials``.
+``adobe_bsdf.composition``; material recipes (that of [Kutz2021]) under
+``adobe_bsdf.materials``.
 """
 
 from adobe_bsdf.lobes.dielectric import Dielectric

@@ -67,10 +67,10 @@ def _light_side(eta, side):
 
 
 class Dielectric(Lobe):
-    """Rough dielectric boundary (Walter et al. 2007) between index 1 above and ``eta`` below.
+    """Rough dielectric boundary [Walter2007] between index 1 above and ``eta`` below.
 
-    Reflection f_r = F(wo.h) D(h) G2 / (4 |cos o| |cos i|) (Walter eq. 20) and, for
-    radiance transport, refraction (Walter eq. 21 with eta_o on the side of ``wo``)
+    Reflection f_r = F(wo.h) D(h) G2 / (4 |cos o| |cos i|) [Walter2007, eq. 20] and, for
+    radiance transport, refraction ([Walter2007, eq. 21] with eta_o on the side of ``wo``)
 
         f_t = |wi.h| |wo.h| eta_o^2 (1 - F) D(h) G2 / (|cos o| |cos i| (eta_i wi.h + eta_o wo.h)^2)
 
@@ -205,7 +205,7 @@ class Dielectric(Lobe):
         """Reflection (both directions above, after mirroring): ``([F D, F], P)`` with
         h = wo + wi, F at wo.h = |wo + wi| / 2 (bitwise symmetric in wo, wi) from the side
         of ``wo`` (total internal reflection included) and P = D_wo(h) / (4 wo.h) =
-        D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3)."""
+        D(h) / (2 (|cos o| + S(wo))) [Heitz2018, eq. 3]."""
         hx = ox + ix
         hy = oy + iy
         hz = zo + zi
@@ -262,7 +262,7 @@ class Dielectric(Lobe):
     # -- sampling -------------------------------------------------------------------------
     def _sample(self, wo, u):
         """Visible normal m of ``wo`` (mirrored above), then reflection with probability
-        F(wo.m), else refraction (Snell's law in vector form, pbrt-v4 §9.3); only the chosen
+        F(wo.m), else refraction (Snell's law in vector form, [Pharr2023, §9.3]); only the chosen
         branch's direction, masking and density are computed."""
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]

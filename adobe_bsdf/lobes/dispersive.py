@@ -1,4 +1,4 @@
-"""A rough dielectric whose index depends on the colour channel: ASM dispersion (seed 000 §4)."""
+"""A rough dielectric whose index depends on the colour channel: dispersion [Kutz2021, §4]."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ _RGB_NM = wavelengths(RGB_WAVELENGTHS_NM)
 
 def channel_probabilities(throughput, shape=()) -> np.ndarray:
     """p_c = t_c / sum_c t_c ``(..., 3)``: channel selection proportional to the path
-    throughput (seed 000 §4); white (``None``) or a throughput of 0 (a path that carries
+    throughput [Kutz2021, §4]; white (``None``) or a throughput of 0 (a path that carries
     nothing) gives 1/3 each."""
     if throughput is None:
         return np.full(tuple(shape) + (3,), 1.0 / 3.0)
@@ -44,18 +44,18 @@ def _channel_indices(eta, dispersion, wavelengths_nm):
 
 
 class Dispersive(Lobe):
-    """Rough dielectric boundary with one relative index eta_c per RGB channel (seed 000 §4).
+    """Rough dielectric boundary with one relative index eta_c per RGB channel [Kutz2021, §4].
 
     Channel c of f is channel c of ``Dielectric(eta_c, alpha_x, alpha_y)``, with eta_c from
     Cauchy's equation through (n_d, V_d = 20 / ``dispersion``) at the channel wavelengths of
     ``adobe_bsdf.dispersion``. Reflection keeps its direction and changes only its Fresnel
-    per channel; refraction sends each channel its own way, so, as in the ASM renderer, "the
-    transmission component of the specular lobe" becomes three lobes.
+    per channel; refraction sends each channel its own way, so, as in the renderer of
+    [Kutz2021, §4], "the transmission component of the specular lobe" becomes three lobes.
 
     Sampling follows the paper: channel c's dielectric is chosen with probability p_c
     proportional to the path throughput (``sample(wo, u, throughput)``, default white;
     ``channel_probabilities``), sampled, and the direction weighed by the one-sample balance
-    heuristic (Veach 1997 §9.2.4): pdf = sum_c p_c pdf_c(wo, wi) and
+    heuristic [Veach1997, §9.2.4]: pdf = sum_c p_c pdf_c(wo, wi) and
     weight = f(wo, wi) |cos i| / pdf, RGB. A channel with throughput 0 is never chosen, and
     its weight is then only exact where another channel's pdf covers its support; such a
     path carries nothing in that channel. ``pdf`` must be given the same throughput.
@@ -74,7 +74,8 @@ class Dispersive(Lobe):
         n_d below / n above at the d line (as ``Dielectric``); the dispersive medium is the
         denser side (for eta < 1 the channel indices are 1 / Cauchy's indices of 1 / eta).
     dispersion : array_like in [0, inf)
-        The ASM parameter, 20 / V_d (eq. 12); it may not take a channel's index to 1.
+        The Dispersion parameter of [Kutz2021, eq. 12], 20 / V_d; it may not take a
+        channel's index to 1.
     alpha_x, alpha_y, masking, model
         As ``Dielectric``.
     wavelengths_nm : three floats

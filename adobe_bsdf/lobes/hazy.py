@@ -57,7 +57,7 @@ def _narrow_and_wide(mapping: HazeMapping, model: str, compound_masking: bool, m
 
 
 class HazyGloss(Sum):
-    """Hazy gloss, seed 002 eq. 1: (1 - beta) F_r f_n + beta F_r f_w with microfacet lobes
+    """Hazy gloss [Barla2018, eq. 1]: (1 - beta) F_r f_n + beta F_r f_w with microfacet lobes
     f_n, f_w of narrow and wide roughness sharing the exact conductor Fresnel F_r, all from
     the perceptual parameters through ``haze_mapping`` (kept as ``mapping``).
 
@@ -90,13 +90,13 @@ class HazyGloss(Sum):
 
 
 class HazyDielectric(Sum):
-    """Hazy gloss on a dielectric interface (seed 002 §4.2, Fig. 13 left): "the same physical
+    """Hazy gloss on a dielectric interface [Barla2018, §4.2, Fig. 13 left]: "the same physical
     parameters (beta, eta + i kappa, alpha_{n,w}) in a two-component BTDF of a form similar
     to Equation 1", (1 - beta) f_n + beta f_w with rough ``Dielectric`` lobes (reflection and
     refraction) of narrow and wide roughness and the one index eta = n_below / n_above.
 
     The index comes from ``haze_mapping`` with edge tint 0: eta = (1 + sqrt(r)) /
-    (1 - sqrt(r)) (Gulbrandsen, kappa = 0) of the global reflectivity r, which grows with
+    (1 - sqrt(r)) ([Gulbrandsen2014], kappa = 0) of the global reflectivity r, which grows with
     the haziness (§5: "transmitted radiance is affected with increased haziness"). Light may
     arrive from either side (index 1 / eta below). Generalized reciprocity holds, as for
     each ``Dielectric``.

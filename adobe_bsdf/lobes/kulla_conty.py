@@ -1,4 +1,4 @@
-"""Kulla–Conty multiple scattering for GGX conductors and dielectrics (seed ``000`` §1.2).
+"""Kulla–Conty multiple scattering for GGX conductors and dielectrics [Kutz2021, §1.2].
 
 Public API
 ----------
@@ -14,8 +14,8 @@ alpha = sqrt(alpha_x alpha_y) (error measured in ``docs/tables.md``). Averages E
 exact mu-averages of the interpolated E, so each term restores exactly 1 - E(mu_o) (up to the
 interpolation error of E) and a white furnace measures the tables' interpolation error.
 
-References: C. Kulla, A. Conty, "Revisiting physically based shading at Imageworks",
-SIGGRAPH 2017 course notes; seed ``000`` (Kutz et al. 2021) §1.2.
+References: [KullaConty2017] the separable energy-compensation terms; [Kutz2021, §1.2] their
+use for metals (times base_color^2) and refractive dielectrics.
 """
 
 from __future__ import annotations
@@ -49,10 +49,10 @@ def _inverse_loss(E_avg):
 
 
 class ConductorMultipleScattering(Separable):
-    """f_ms = base_color^2 (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) (seed ``000`` §1.2).
+    """f_ms = base_color^2 (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) [Kutz2021, §1.2].
 
     E is the F = 1 directional albedo of the GGX lobe and E_avg its cosine-weighted average
-    (Kulla & Conty 2017); base_color^2 stands for the at-least-two bounces of every path
+    [KullaConty2017]; base_color^2 stands for the at-least-two bounces of every path
     this term represents. Reciprocal and separable; cosine-sampled; one-sided.
 
     Parameters
@@ -104,7 +104,7 @@ class ConductorMultipleScattering(Separable):
 
 class ConductorMS(Sum):
     """GGX conductor with Kulla–Conty multiple scattering: ``Conductor`` +
-    ``ConductorMultipleScattering`` (seed ``000`` §1.2). Height-correlated masking (the
+    ``ConductorMultipleScattering`` [Kutz2021, §1.2]. Height-correlated masking (the
     tables' G2).
 
     Parameters
@@ -127,7 +127,7 @@ class ConductorMS(Sum):
 
 
 class DielectricMultipleScattering(Separable):
-    """Kulla–Conty terms of a rough dielectric interface (seed ``000`` §1.2), both sides.
+    """Kulla–Conty terms of a rough dielectric interface [Kutz2021, §1.2], both sides.
 
     With E_s(mu) = E_R + E_T the single-scattering energy seen from side s (L: less dense,
     D: dense), E_avg,s its average, eta = n_D / n_L >= 1 and r_s the share of side s's
@@ -221,7 +221,7 @@ class DielectricMultipleScattering(Separable):
 
 class DielectricMS(Sum):
     """Rough dielectric with Kulla–Conty multiple scattering: ``Dielectric`` +
-    ``DielectricMultipleScattering`` (seed ``000`` §1.2); height-correlated masking.
+    ``DielectricMultipleScattering`` [Kutz2021, §1.2]; height-correlated masking.
 
     Parameters
     ----------

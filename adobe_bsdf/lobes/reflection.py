@@ -17,7 +17,7 @@ __all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection"]
 class MicrofacetReflection(SupportLobe):
     """Microfacet reflection f = F(wo.h) D(h) G2(wo, wi) / (4 |cos o| |cos i|).
 
-    Walter et al. 2007 eq. 20 with an anisotropic distribution of ``adobe_bsdf.microfacet``
+    [Walter2007, eq. 20] with an anisotropic distribution of ``adobe_bsdf.microfacet``
     (GGX by default; ``Conductor.over`` takes any, e.g. a ``Mixture``); sampled by visible
     normals (weight F G2 / G1(wo)). One-sided: 0 unless both directions are
     above the surface. Where both alphas are below ``ALPHA_MIN`` it is a perfect mirror (a
@@ -113,7 +113,7 @@ class MicrofacetReflection(SupportLobe):
 
     @staticmethod
     def _p(wo, up, D, s_o):
-        """pdf = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) (Heitz 2018 eq. 3),
+        """pdf = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) [Heitz2018, eq. 3],
         0 outside ``up``."""
         pdf = D / (2.0 * (wo[..., 2] + s_o))
         return pdf if up is None else np.where(up, pdf, 0.0)
@@ -200,7 +200,7 @@ class Conductor(MicrofacetReflection):
 
 class DielectricReflection(MicrofacetReflection):
     """The reflection of a rough dielectric interface alone: GGX microfacet reflection with
-    the exact dielectric Fresnel of relative index ``eta`` (Walter et al. 2007 eq. 20), no
+    the exact dielectric Fresnel of relative index ``eta`` [Walter2007, eq. 20], no
     refraction. Its albedo table is E_R of the dielectric tables (seen from the light side
     for eta >= 1, from the dense side for eta < 1) at sqrt(alpha_x alpha_y).
 

@@ -1,5 +1,6 @@
-"""Separable lobes f(wo, wi) = c X(wo) X(wi), cosine-sampled: the form shared by the ASM
-energy-conserving diffuse and the Kulla–Conty multiple-scattering terms."""
+"""Separable lobes f(wo, wi) = c X(wo) X(wi), cosine-sampled: the form shared by the
+energy-conserving diffuse [Kutz2021, §1.1] and the Kulla–Conty multiple-scattering terms
+[KullaConty2017]."""
 
 from __future__ import annotations
 

@@ -1,9 +1,9 @@
-"""The ASM sheen: a single-scattering layer of SGGX fibre microflakes (seed 000 §6).
+"""Sheen: a single-scattering layer of SGGX fibre microflakes [Kutz2021, §6].
 
 Public API
 ----------
 ``Sheen(color, roughness, c=2.0, p=1.0)``
-    The sheen BRDF of seed 000 eqs. 15-18, sampled exactly by the visible normals of its
+    The sheen BRDF of [Kutz2021, eqs. 15-18], sampled exactly by the visible normals of its
     fibre distribution; ``albedo`` by ``"quadrature"``, ``"mc"`` or ``"table"``
     (``tables`` "sheen_albedo").
 
@@ -12,14 +12,12 @@ The derivations (the r = 0 limit, the sampler, the grazing albedo c / 2) are in
 
 References
 ----------
-- seed ``000_dc1170558b4eb881.txt`` §6, eqs. 15-18: the BRDF, D, G, Lambda and sigma.
-- E. Heitz, J. Dupuy, C. Crassin, C. Dachsbacher, "The SGGX microflake distribution",
-  HPG 2015: D(w) = 1 / (pi sqrt|S| (w^T S^-1 w)^2), projected area sigma(w) = sqrt(w^T S w);
-  eq. 16 is S = diag(1, 1, r^2).
-- E. Heitz, "Sampling the GGX distribution of visible normals", JCGT 7(4), 2018: visible
-  normals of a linearly transformed sphere.
-- J. Dupuy, A. Benyoub, "Sampling visible GGX normals with spherical caps", HPG 2023: a unit
-  vector plus a uniform point of the unit sphere is cosine-distributed about it.
+[Kutz2021, §6, eqs. 15-18] the BRDF, D, G, Lambda and sigma.
+[Heitz2015] the SGGX microflake distribution: D(w) = 1 / (pi sqrt|S| (w^T S^-1 w)^2),
+projected area sigma(w) = sqrt(w^T S w); [Kutz2021, eq. 16] is S = diag(1, 1, r^2).
+[Heitz2018] visible normals of a linearly transformed sphere.
+[DupuyBenyoub2023] a unit vector plus a uniform point of the unit sphere is
+cosine-distributed about it.
 """
 
 from __future__ import annotations
@@ -44,7 +42,7 @@ DEFAULT_C, DEFAULT_P = np.asarray(2.0), np.asarray(1.0)
 
 
 class Sheen(SupportLobe):
-    """Microflake sheen f = c a D(h) G(wi, wo) / (4 cos theta_i cos theta_o) (seed 000 eq. 15).
+    """Microflake sheen f = c a D(h) G(wi, wo) / (4 cos theta_i cos theta_o) [Kutz2021, eq. 15].
 
     0 unless both directions are above the surface. With h = (wo + wi) / |wo + wi|:
 
@@ -69,11 +67,11 @@ class Sheen(SupportLobe):
     roughness : array_like in [0, 1]
         Sheen roughness r (not squared, eq. 16).
     c : array_like in [0, inf)
-        Brightness constant of eq. 15; ASM uses 2 (the largest albedo is then c / 2 = 1, at
-        grazing ``wo``).
+        Brightness constant of eq. 15; [Kutz2021, §6] uses 2 (the largest albedo is then
+        c / 2 = 1, at grazing ``wo``).
     p : array_like in (0, inf)
-        Optical thickness of the fibre layer (eq. 17); ASM uses 1. The albedo table holds
-        p = 1 only.
+        Optical thickness of the fibre layer (eq. 17); [Kutz2021, §6] uses 1. The albedo
+        table holds p = 1 only.
 
     Notes
     -----

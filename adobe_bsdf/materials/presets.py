@@ -1,23 +1,24 @@
 """Named parameter sets from the source papers, as keyword arguments of the library's lobes.
 
-``hazy``         ``ab.hazy.HazyGloss(**hazy[name])``: the materials of seed 002 Table 3
+``hazy``         ``ab.hazy.HazyGloss(**hazy[name])``: the materials of [Barla2018, Table 3]
                  (Figs. 1 and 11) and of the captions that fix every parameter (Fig. 9).
 ``hazy_sweeps``  captions that vary one parameter with the others fixed:
                  ``(fixed keyword arguments, swept parameter, (first, last) value)``.
-``metals``       seed 000 Table 1: ``{"f0": F0, "tint": F82 tint}`` in linear Rec. 709, for
+``metals``       [Kutz2021, Table 1]: ``{"f0": F0, "tint": F82 tint}`` in linear Rec. 709, for
                  ``ab.fresnel.f82_tint(cos, **metals[name])`` (base colour, edge colour).
-``media``        seed 000 Table 3: Jensen's measured materials as ``ab.media.asm_medium``
+``media``        [Kutz2021, Table 3]: measured materials [Jensen2001] as ``ab.media.asm_medium``
                  keyword arguments (scattering distance, colour, Rayleigh).
-``dispersion``   seed 000 Table 2: ``{"ior": n_d, "abbe": V_d}`` of real materials
+``dispersion``   [Kutz2021, Table 2]: ``{"ior": n_d, "abbe": V_d}`` of real materials
                  (``ab.dispersion.abbe_to_dispersion(abbe)`` is their "Dispersion").
 
-Table 3 names its reflectivity column r_p, the peak (core) reflectivity r_c of §2.2.
+[Barla2018, Table 3] names its reflectivity column r_p: the peak (core) reflectivity r_c of
+[Barla2018, §2.2].
 
 References
 ----------
-[000] Adobe Standard Material (``shared/seeds/000_dc1170558b4eb881.txt``): Tables 1, 2, 3.
-[002] Barla, Pacanowski, Vangorp 2018 (``shared/seeds/002_01cff37cda6a7899.txt``): Table 3,
-      captions of Figs. 8, 9, 10.
+[Kutz2021, Tables 1, 2, 3] metals, dispersive materials, subsurface media.
+[Barla2018, Table 3] hazy materials, and the captions of its Figs. 8, 9, 10.
+[Jensen2001] the measured media of [Kutz2021, Table 3].
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ def _medium(distance, color, rayleigh):
 
 
 media = {
-    # seed 000 Table 3: "Scattering Distance", "Scattering Color", "Rayleigh Scattering"
+    # [Kutz2021, Table 3]: "Scattering Distance", "Scattering Color", "Rayleigh Scattering"
     "Apple": _medium(0.04374, (1.0, 0.9168, 0.7063), 0.0),
     "Chicken1": _medium(0.4118, (0.4947, 0.2785, 0.2320), 0.7311),
     "Chicken2": _medium(0.3758, (0.5036, 0.2849, 0.2011), 0.3979),
@@ -47,7 +48,7 @@ media = {
 }
 
 metals = {
-    # seed 000 Table 1: F0 ("Base Color") and F82 tint ("Specular Edge Color"), linear Rec. 709
+    # [Kutz2021, Table 1]: F0 ("Base Color") and F82 tint ("Specular Edge Color"), linear Rec. 709
     "Ag": {"f0": (0.9868, 0.9830, 0.9667), "tint": (0.9929, 0.9961, 1.0000)},
     "Al": {"f0": (0.9157, 0.9226, 0.9236), "tint": (0.9090, 0.9365, 0.9596)},
     "Au": {"f0": (1.0000, 0.7099, 0.3148), "tint": (0.9408, 0.9636, 0.9099)},
@@ -64,7 +65,7 @@ metals = {
 }
 
 dispersion = {
-    # seed 000 Table 2: IOR n_d and Abbe number V_d
+    # [Kutz2021, Table 2]: IOR n_d and Abbe number V_d
     "N-FK58": {"ior": 1.456, "abbe": 90.90},
     "N-BK7": {"ior": 1.517, "abbe": 64.17},
     "N-BAK4": {"ior": 1.569, "abbe": 55.98},

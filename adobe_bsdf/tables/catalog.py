@@ -2,14 +2,14 @@
 
 | name | axes | outputs | source |
 |---|---|---|---|
-| ``ggx_conductor`` | mu, alpha | E | Kulla & Conty 2017; seed ``000`` §1.2 |
+| ``ggx_conductor`` | mu, alpha | E | [KullaConty2017]; [Kutz2021, §1.2] |
 | ``ggx_conductor_avg`` | alpha | E_avg | the mu-average 2 int E mu dmu of the above |
-| ``ggx_dielectric_outside`` | mu, alpha, eta | E_R, E_T | seed ``000`` §1.2, light side |
+| ``ggx_dielectric_outside`` | mu, alpha, eta | E_R, E_T | [Kutz2021, §1.2], light side |
 | ``ggx_dielectric_inside`` | mu, alpha, eta | E_R, E_T | the same from the dense side (1 / eta) |
 | ``ggx_dielectric_*_avg`` | alpha, eta | E_R_avg, E_T_avg | mu-averages of the two above |
-| ``asm_diffuse_L`` | mu, roughness, ior | L | seed ``000`` §1.1 eq. 1, lobe integral L |
-| ``asm_diffuse_T`` | roughness, ior | T | seed ``000`` §1.1 eq. 1, total integral T |
-| ``sheen_albedo`` | mu, roughness | E | seed ``000`` §6 eqs. 15-18 (c = a = p = 1) |
+| ``asm_diffuse_L`` | mu, roughness, ior | L | [Kutz2021, §1.1 eq. 1], lobe integral L |
+| ``asm_diffuse_T`` | roughness, ior | T | [Kutz2021, §1.1 eq. 1], total integral T |
+| ``sheen_albedo`` | mu, roughness | E | [Kutz2021, §6 eqs. 15-18] (c = a = p = 1) |
 
 Node values come from ``energy.ggx_energy`` (piecewise Gauss–Legendre, error estimate per
 node); roughness 0 is the smooth interface in closed form. Averages are not integrated
@@ -141,7 +141,7 @@ def _sheen_rule(mu, r, p, order):
 
 def sheen_energy(mu, roughness, p: float = 1.0, order: int = 16):
     """Directional albedo E = int f(wi, wo) cos theta_i d wi of the sheen BRDF with c a = 1
-    (seed 000 §6 eqs. 15-18) and its error estimate, by piecewise Gauss–Legendre quadrature
+    [Kutz2021, §6 eqs. 15-18] and its error estimate, by piecewise Gauss–Legendre quadrature
     in the direction of ``wi``.
 
     Parameters
@@ -224,11 +224,11 @@ SPECS: dict[str, TableSpec] = {s.name: s for s in [
           "mu-averages of ggx_dielectric_inside", depends=("ggx_dielectric_inside",)),
     _spec("asm_diffuse_L", (_MU, _ROUGHNESS, _IOR), ("L",), _asm_lobe_integral,
           "ASM lobe integral L(mu, roughness, ior) of the dielectric specular reflection "
-          "(alpha = roughness^2, exact Fresnel): seed 000 §1.1 eq. 1"),
+          "(alpha = roughness^2, exact Fresnel): [Kutz2021, §1.1 eq. 1]"),
     _spec("asm_diffuse_T", (_ROUGHNESS, _IOR), ("T",), _average,
           "ASM total integral T = (1/pi) int L dsigma = 2 int L mu dmu",
           depends=("asm_diffuse_L",)),
     TableSpec("sheen_albedo", (_SHEEN_MU, _SHEEN_ROUGHNESS), ("E",), _sheen, _SHEEN_QUADRATURE,
               16, (), "directional albedo E(mu, r) = int f cos theta_i d wi of the sheen BRDF "
-              "with c = a = p = 1: seed 000 §6 eqs. 15-18"),
+              "with c = a = p = 1: [Kutz2021, §6 eqs. 15-18]"),
 ]}

@@ -7,7 +7,7 @@ Public API
     dielectric interface seen at cos theta_o = ``mu``, with an error estimate per value.
 
 The integral is taken over microfacet normals m = (theta_m, phi), weighted by the visible-normal
-density (Heitz 2018 eq. 3), i.e. the single-scattering energy of the sampler of
+density [Heitz2018, eq. 3], i.e. the single-scattering energy of the sampler of
 ``lobes.Conductor`` / ``lobes.Dielectric``:
 
     E_R = int D_wo(m) F G2(wo, wr) / G1(wo) dm
@@ -16,7 +16,7 @@ density (Heitz 2018 eq. 3), i.e. the single-scattering energy of the sampler of
 
 where xi = tan^2 theta_m / (alpha^2 + tan^2 theta_m) is the GGX cdf of D cos (so D(m) cos_m
 d omega_m = dxi dphi / (2 pi)), wr / wt are the reflected / refracted directions, and G2 is the
-height-correlated Smith term (Heitz 2014 eq. 99), written as G2 / mu to stay finite at mu = 0.
+height-correlated Smith term [Heitz2014, eq. 99], written as G2 / mu to stay finite at mu = 0.
 
 Why this form (``docs/tables.md``): the integrand is analytic except where a direction
 crosses the horizon, where the facet turns away from ``wo``, and at the critical angle of

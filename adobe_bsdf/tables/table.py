@@ -88,7 +88,7 @@ class Axis:
         C of the "log-linear" parameterisation p = (x - lo) + C ln(x - lo + 1e-4): the larger,
         the more nodes go close to ``lo``.
     interpolation : {"linear", "cubic"}
-        Along this axis: linear, or Catmull–Rom cubic convolution (Keys 1981, a = -1/2) with
+        Along this axis: linear, or Catmull–Rom cubic convolution ([Keys1981], a = -1/2) with
         quadratic extrapolation for the ghost nodes beyond the ends.
     """
 

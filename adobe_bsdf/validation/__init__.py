@@ -46,13 +46,12 @@ Property-test inputs (``validation.strategies``, needs ``hypothesis``; not impor
 
 References
 ----------
-- Mitsuba 3, ``src/python/python/chi2.py``; pbrt-v4, ``src/pbrt/bsdfs_test.cpp``: the
-  chi-square method (histogram on a sphere grid, pooling below 5 expected, hard failure in
-  cells of zero expectation, Šidák-corrected significance).
-- A. C. Genz, A. A. Malik, "An adaptive algorithm for numerical integration over an
-  n-dimensional rectangular region", J. Comput. Appl. Math. 6(4), 1980.
-- E. Veach, *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis, Stanford
-  1997, section 5.3: reciprocity of BSDFs with refraction.
+[Jakob2022] Mitsuba 3, ``src/python/python/chi2.py``; [Pharr2023] pbrt-v4,
+``src/pbrt/bsdfs_test.cpp``: the chi-square method (histogram on a sphere grid, pooling below
+5 expected, hard failure in cells of zero expectation, Šidák-corrected significance
+[Sidak1967]).
+[GenzMalik1980] adaptive cubature.
+[Veach1997, §5.3] reciprocity of BSDFs with refraction.
 """
 
 from adobe_bsdf.validation.checks import (

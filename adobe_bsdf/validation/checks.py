@@ -16,9 +16,9 @@ either is not finite, so a NaN can never pass.
 
 References
 ----------
-- E. Veach, *Robust Monte Carlo Methods for Light Transport Simulation*, PhD thesis, Stanford
-  1997, section 5.3 (reciprocity of BSDFs with refraction: f(wo, wi)/eta_o^2 = f(wi, wo)/eta_i^2).
-- pbrt-v4, ``src/pbrt/bsdfs_test.cpp`` (energy conservation and sampling consistency tests).
+[Veach1997, §5.3] reciprocity of BSDFs with refraction: f(wo, wi)/eta_o^2 = f(wi, wo)/eta_i^2.
+[Pharr2023] pbrt-v4, ``src/pbrt/bsdfs_test.cpp`` (energy conservation and sampling consistency
+tests).
 """
 
 from __future__ import annotations
@@ -254,7 +254,7 @@ def reciprocity_error(
     """Relative error of the (generalized) reciprocity of ``lobe.eval`` over pairs of directions.
 
     Checks f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2, where eta_o and eta_i are the refractive
-    indices on the sides of ``wo`` and ``wi`` (Veach 1997, section 5.3; ``design.md``); for
+    indices on the sides of ``wo`` and ``wi`` ([Veach1997, §5.3]; ``design.md``); for
     reflection pairs, or lobes without an interface, this is plain reciprocity.
 
     Parameters

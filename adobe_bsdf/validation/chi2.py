@@ -33,12 +33,10 @@ expectation is below 5, and compare with Pearson's statistic. Beyond those harne
 
 References
 ----------
-- Mitsuba 3, ``src/python/python/chi2.py`` (``ChiSquareTest``); pbrt-v4,
-  ``src/pbrt/bsdfs_test.cpp`` (``ChiSquareTest``).
-- A. C. Genz, A. A. Malik, "An adaptive algorithm for numerical integration over an
-  n-dimensional rectangular region", J. Comput. Appl. Math. 6(4), 1980.
-- Z. Šidák, "Rectangular confidence regions for the means of multivariate normal
-  distributions", J. Amer. Statist. Assoc. 62, 1967.
+[Jakob2022] Mitsuba 3, ``src/python/python/chi2.py`` (``ChiSquareTest``); [Pharr2023]
+pbrt-v4, ``src/pbrt/bsdfs_test.cpp`` (``ChiSquareTest``).
+[GenzMalik1980] adaptive cubature of the expected counts.
+[Sidak1967] the correction for a family of tests.
 """
 
 from __future__ import annotations

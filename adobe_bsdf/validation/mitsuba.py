@@ -45,7 +45,7 @@ where ``eta = eta_i / eta_o`` is the index on the light's side over the index on
 side (its ``m_eta`` or ``m_inv_eta`` depending on the sign of ``wo_z``), ``m`` is the
 generalized half vector ``normalize(wo + eta wi)`` turned to ``m_z > 0``, ``F`` the dielectric
 Fresnel reflectance at ``wo.m``, ``D`` GGX and ``G = G1(wo, m) G1(wi, m)``. The radiance scale
-cancels the ``eta^2`` of Walter et al. (2007), so after dividing by ``|wi_z|``::
+cancels the ``eta^2`` of [Walter2007], so after dividing by ``|wi_z|``::
 
     f(wo, wi) = eta_o^2 (1 - F) D G |(wo.m)(wi.m)| / (|wo_z| |wi_z| (eta_o wo.m + eta_i wi.m)^2)
 
