@@ -91,3 +91,29 @@ def test_validate_rejects_unknown_and_missing_values():
     with pytest.raises(ValueError, match="unique"):
         ParameterSpec(Parameter("a", "real", 0.0, (0.0, 1.0)),
                       Parameter("a", "real", 0.0, (0.0, 1.0)))
+
+
+def test_asm_validates_each_parameter_once(monkeypatch):
+    """Building a loaded ASM checks each user parameter once, at the spec; the lobes are
+    assembled from the validated arrays (the only other checks are the tables' own range
+    checks of the coordinates they are looked up at)."""
+    import inspect
+
+    from adobe_bsdf import _params
+
+    calls = []
+    real = _params.real
+
+    def counting(name, *args, **kwargs):
+        caller = Path(inspect.stack()[1].filename)
+        calls.append((name, "tables" in caller.parts or caller.name == "energy_lookup.py"))
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(_params, "real", counting)
+    AdobeStandardMaterial(metallic=0.5, translucency=0.5, roughness=0.4, dispersion=0.5,
+                          anisotropy_level=0.3, anisotropy_angle=0.2, coat_opacity=0.5,
+                          coat_color=(0.9, 0.8, 0.7), sheen_opacity=0.5)
+    outside_tables = sorted(name for name, in_tables in calls if not in_tables)
+    expected = sorted(p.name for p in PARAMETERS if p.default is not None)
+    assert outside_tables == expected
+    assert sum(in_tables for _, in_tables in calls) <= 6
