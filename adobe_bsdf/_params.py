@@ -7,9 +7,21 @@ Parameters are validated once, where the user hands them in: a public constructo
 its arguments and calls ``_init``, which only stores them and derives what it needs; code
 that assembles objects from values it has validated already calls ``cls._new(...)``
 (``Validated``), which runs ``_init`` alone.
+
+What counts as a real number (``real``, ``color``, ``direction_shape``, ``uniforms_shape``,
+``vectors``): anything NumPy holds with a boolean, integer or floating-point dtype, and
+sequences or object arrays of ``numbers.Real`` (or ``decimal.Decimal``) values. Booleans are
+accepted as 0 and 1, as NumPy treats them: a boolean mask is a natural texture of a 0/1
+parameter (``metallic``). Rejected, with a ``ValueError`` naming the parameter and its value:
+strings and bytes (even ``"0.5"``, which ``np.asarray(value, float)`` would parse), ``None``,
+complex numbers (whose imaginary part a float conversion would drop), dates and times, ragged
+sequences and any other object.
 """
 
 from __future__ import annotations
+
+import decimal
+import numbers
 
 import numpy as np
 
@@ -36,13 +48,50 @@ def _first_bad(value: np.ndarray, bad: np.ndarray):
     return value[bad].flat[0].item() if np.any(bad) else None
 
 
+def _show(value, limit: int = 80) -> str:
+    """``repr(value)``, shortened to about ``limit`` characters for messages."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+#: dtype kinds that are real numbers: boolean, signed and unsigned integer, floating point
+_REAL_KINDS = frozenset("biuf")
+
+
+def _is_real(x) -> bool:
+    return isinstance(x, (numbers.Real, np.bool_, decimal.Decimal))
+
+
+def as_float(name: str, value, what: str = "a real number or array of them") -> np.ndarray:
+    """``value`` as a float64 array if it holds real numbers only (see the module docstring);
+    else ``ValueError`` "``name`` = value is not ``what``"."""
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        return value  # the fast path of validated arrays
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged sequences, failing __array__
+        raise ValueError(f"{name} = {_show(value)} is not {what}") from exc
+    kind = arr.dtype.kind
+    if kind == "O" and all(_is_real(x) for x in arr.flat):
+        try:
+            return arr.astype(np.float64)
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise ValueError(f"{name} = {_show(value)} is not {what}") from exc
+    if kind not in _REAL_KINDS:
+        detail = (f"type {type(value).__name__}" if arr.ndim == 0 or kind == "O"
+                  else f"dtype {arr.dtype}")
+        raise ValueError(f"{name} = {_show(value)} is not {what} ({detail})")
+    return arr.astype(np.float64, copy=False)
+
+
 def real(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
          lo_open: bool = False, hi_open: bool = False) -> np.ndarray:
-    """``value`` as a float64 array, checked to be finite and inside [lo, hi] (or open ends)."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} = {value!r} is not a real number or array of them") from exc
+    """``value`` as a float64 array, checked to be finite and inside [lo, hi] (or open ends).
+
+    ``value`` must hold real numbers (module docstring): strings, bytes, ``None``, complex
+    numbers and other objects raise ``ValueError`` "``name`` = value is not a real number".
+    """
+    arr = as_float(name, value)
     below = arr <= lo if lo_open else arr < lo
     above = arr >= hi if hi_open else arr > hi
     bad = ~np.isfinite(arr) | below | above
@@ -54,11 +103,40 @@ def real(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
     return arr
 
 
+def scalar(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
+           lo_open: bool = False, hi_open: bool = False) -> float:
+    """``real`` of a single number, as a Python float (an array of several raises)."""
+    arr = real(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open)
+    if arr.ndim:
+        raise ValueError(f"{name} has shape {arr.shape}; allowed: a single number")
+    return float(arr)
+
+
 def integer(name: str, value, lo: int) -> int:
-    """An integer count in [lo, inf) (booleans are rejected)."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
-        raise ValueError(f"{name} = {value!r} must be an integer in [{lo}, inf)")
+    """An integer count in [lo, inf) (booleans are rejected: a count is never True)."""
+    if (isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer))
+            or value < lo):
+        raise ValueError(f"{name} = {_show(value)} must be an integer in [{lo}, inf)")
     return int(value)
+
+
+def flag(name: str, value) -> bool:
+    """A switch: ``True`` or ``False`` (also NumPy's booleans); numbers and strings raise."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} = {_show(value)} is not a bool (allowed: True or False)")
+    return bool(value)
+
+
+def seed(name: str, value):
+    """A source of random numbers: ``None``, an integer seed in [0, inf) or a
+    ``numpy.random.Generator``, returned unchanged (``np.random.default_rng`` takes each)."""
+    if value is None or isinstance(value, np.random.Generator):
+        return value
+    if (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+            and value >= 0):
+        return value
+    raise ValueError(f"{name} = {_show(value)} is not a source of random numbers (allowed: "
+                     "None, an integer seed in [0, inf) or a numpy.random.Generator)")
 
 
 def color(name: str, value, lo: float = -np.inf, hi: float = np.inf) -> np.ndarray:
@@ -86,13 +164,61 @@ def direction(name: str, value) -> np.ndarray:
 
 def direction_shape(name: str, value) -> np.ndarray:
     """``value`` as float64 with a trailing axis of 3 (the lengths are not checked)."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} = {value!r} is not an array of 3-vectors") from exc
+    arr = as_float(name, value, "an array of 3-vectors")
     if arr.ndim == 0 or arr.shape[-1] != 3:
-        raise ValueError(f"{name} has shape {arr.shape}; directions need a trailing axis of 3")
+        raise ValueError(f"{name} has shape {arr.shape}; allowed: shape (..., 3) (directions "
+                         "need a trailing axis of 3)")
     return arr
+
+
+def vectors(name: str, value) -> np.ndarray:
+    """``value`` as float64 of shape ``(..., 3)`` (any 3-vectors: nothing else is checked)."""
+    arr = as_float(name, value, "an array of 3-vectors")
+    if arr.ndim == 0 or arr.shape[-1] != 3:
+        raise ValueError(f"{name} has shape {arr.shape}; allowed: shape (..., 3) (3-vectors)")
+    return arr
+
+
+def _and(items: list) -> str:
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def _batches(named, trailing) -> list[tuple]:
+    cut = [trailing] * len(named) if isinstance(trailing, int) else list(trailing)
+    return [a.shape[:a.ndim - k] for (_, a), k in zip(named, cut, strict=True)]
+
+
+def batch_shape(named, params: tuple | None = None, params_name: str = "the parameters",
+                trailing: int | list = 1) -> tuple:
+    """The broadcast batch shape of ``named`` ``[(name, array), ...]`` (each without its last
+    ``trailing`` axes: one count, or one per array) and of ``params`` (a parameter batch
+    shape; None: unknown); where they do not broadcast, ``ValueError`` naming every argument
+    with its shape, e.g. "wo has shape (5, 3) and wi has shape (4, 3): their batch shapes
+    (5,) and (4,) do not broadcast"."""
+    try:
+        return np.broadcast_shapes(*_batches(named, trailing),
+                                   *(() if params is None else (params,)))
+    except ValueError:
+        pass
+    raise broadcast_error(named, params, params_name, trailing) from None
+
+
+def broadcast_error(named, params: tuple | None = None, params_name: str = "the parameters",
+                    trailing: int | list = 1) -> ValueError:
+    """The ``ValueError`` of ``batch_shape`` for arguments that do not broadcast (naming those
+    with a batch: a single element broadcasts with anything)."""
+    shapes = _batches(named, trailing)
+    kept = [i for i, s in enumerate(shapes) if s] or list(range(len(named)))
+    named, shapes = [named[i] for i in kept], [shapes[i] for i in kept]
+    given = _and([f"{n} has shape {a.shape}" for n, a in named])
+    try:
+        batch = np.broadcast_shapes(*shapes)
+    except ValueError:
+        return ValueError(f"{given}: their batch shapes {_and([str(s) for s in shapes])} do "
+                          "not broadcast")
+    whose = "its batch shape" if len(named) == 1 else "their batch shape"
+    return ValueError(f"{given}: {whose} {batch} does not broadcast with {params_name} "
+                      f"(shape {params})")
 
 
 #: |w|^2 bounds equivalent to ||w| - 1| <= UNIT_TOLERANCE
@@ -123,12 +249,10 @@ def uniforms(name: str, value, n: int) -> np.ndarray:
 
 def uniforms_shape(name: str, value, n: int) -> np.ndarray:
     """``value`` as float64 with a trailing axis of ``n`` (the range is not checked)."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} = {value!r} is not a real number or array of them") from exc
+    arr = as_float(name, value)
     if arr.ndim == 0 or arr.shape[-1] != n:
-        raise ValueError(f"{name} has shape {arr.shape}; it needs a trailing axis of {n}")
+        raise ValueError(f"{name} has shape {arr.shape}; allowed: shape (..., {n}) (a "
+                         f"trailing axis of {n})")
     return arr
 
 
@@ -139,8 +263,14 @@ def check_uniform(name: str, arr: np.ndarray) -> None:
     real(name, arr, 0.0, 1.0, hi_open=True)
 
 
-def choice(name: str, value, allowed: tuple) -> str:
-    """One of a fixed set of option strings."""
-    if value not in allowed:
-        raise ValueError(f"{name} = {value!r} is not one of {allowed}")
+def _same(a, b) -> bool:
+    """``a == b`` where that is one truth value (an array compared elementwise is not)."""
+    result = a == b
+    return bool(result) if isinstance(result, (bool, np.bool_)) else False
+
+
+def choice(name: str, value, allowed: tuple):
+    """One of a fixed set of options (usually strings; an array is never one of them)."""
+    if not any(_same(value, option) for option in allowed):
+        raise ValueError(f"{name} = {_show(value)} is not one of {allowed}")
     return value

@@ -46,8 +46,20 @@ def _pair(wo, wi):
 
 
 def _throughput(throughput):
-    """The (array, elementwise check) entry of a path throughput for ``Lobe._batched``."""
-    return ((_params.color("throughput", throughput, 0.0, np.inf), lambda t: None),)
+    """The (array, elementwise check) entry of a path throughput for ``Lobe._batched`` (the
+    check does nothing: the colour is checked whole; it carries the name for messages)."""
+    return ((_params.color("throughput", throughput, 0.0, np.inf),
+             partial(_checked_whole, "throughput")),)
+
+
+def _checked_whole(name, arr):
+    """The elementwise check of an argument validated whole already (none)."""
+
+
+def _arg_name(check, index: int) -> str:
+    """The argument's name in an elementwise check ``partial(f, name)`` of ``_batched``."""
+    args = getattr(check, "args", ())
+    return args[0] if args and isinstance(args[0], str) else f"argument {index}"
 
 
 def _like(part: np.ndarray, n: int) -> np.ndarray:
@@ -250,9 +262,15 @@ class Lobe(_params.Validated):
             of f(wo, wi) |cos theta_i| (times (eta_i / eta_o)^2 for transmission) over the
             whole sphere of ``wi``, on one horizon-aligned grid shared by the whole batch,
             with sampled directions as guard points, plus the delta branches' energy in
-            closed form; deterministic. ``"mc"``: mean of ``n_samples`` sample weights (times
-            the same energy factor) per direction. ``"table"``: baked tables (where a lobe
-            has them).
+            closed form; deterministic; the slowest (up to 10^7 evaluations of ``eval``
+            per batch). ``"mc"``: mean of ``n_samples`` sample weights (times the same
+            energy factor) per direction, drawn in blocks of bounded memory; costs
+            ``n_samples`` samples per direction. ``"table"``: baked tables (where a lobe
+            has them): a few interpolations per direction. Where a lobe has no table of
+            its own it says so (``ValueError``), with two exceptions that evaluate a
+            32 x 32 Gauss rule over the visible-normal sampler, 1024 samples per distinct
+            direction: a ``Conductor`` with a Fresnel model (no table of Fresnel moments
+            yet) and, as a layer's top, an anisotropic dielectric reflection.
         tol : float
             ``"quadrature"`` only: target absolute error of every value, in (0, 1), met
             by the cubature's error estimate (a ``UserWarning`` if the evaluation budget ends
@@ -260,14 +278,27 @@ class Lobe(_params.Validated):
         n_samples : int
             ``"mc"`` only: samples per direction, in [2, inf).
         rng : numpy.random.Generator, int or None
-            ``"mc"`` only: source of the uniforms.
+            ``"mc"`` only: source of the uniforms (an integer seed in [0, inf), a
+            ``numpy.random.Generator``, or None for fresh entropy).
         return_error : bool
             Also return the error estimate, ``(..., 3)``: quadrature: the cubature's estimate
             (sum over cells of ``|I7 - I5|``); mc: one standard error of the mean; table: the
             tables' node quadrature error carried through the interpolation, *not* the
             interpolation error, which is larger (measured in ``docs/tables.md``). How honest
             each estimate is, is measured in ``docs/performance.md``.
+
+        Notes
+        -----
+        Every argument is checked whatever the method (``ValueError`` naming it, its value and
+        what is allowed), as are the directions' batch shape against the parameters'.
         """
+        _params.choice("method", method, ALBEDO_METHODS)
+        tol = _params.scalar("tol", tol, 0.0, 1.0, lo_open=True, hi_open=True)
+        n_samples = _params.integer("n_samples", n_samples, 2)
+        return_error = _params.flag("return_error", return_error)
+        rng = _params.seed("rng", rng)
+        if method == "mc":
+            rng = np.random.default_rng(rng)  # the Generator _mc_albedo draws from
         if method == "table":
             # chunked and threaded as eval (a lookup per element)
             fn = (partial(self._albedo_table, with_error=True) if return_error
@@ -275,6 +306,8 @@ class Lobe(_params.Validated):
             return self._batched(fn, ((_params.direction_shape("wo", wo),
                                        partial(_params.check_unit, "wo")),))
         wo = _params.direction("wo", wo)
+        _params.batch_shape([("wo", wo)], self._param_shape(),
+                            f"the {type(self).__name__}'s parameters")
         if method == "quadrature":
             value, error = self._albedo_quadrature(wo, tol)
         elif method == "mc":
@@ -292,11 +325,23 @@ class Lobe(_params.Validated):
     def _batched(self, fn, args):
         """Validate ``args`` ((array, elementwise check) pairs, trailing axis kept) and return
         ``fn(*arrays)``; large batches of a lobe with scalar parameters run in chunks of
-        ``config`` on its thread pool, element by element the same arithmetic."""
+        ``config`` on its thread pool, element by element the same arithmetic.
+
+        The arguments' batch shapes must broadcast together and with the lobe's parameter
+        shape (where known); otherwise ``ValueError`` naming each argument and its shape."""
         arrays = [a for a, _ in args]
-        batch = np.broadcast_shapes(*(a.shape[:-1] for a in arrays))
+        shapes = [a.shape[:-1] for a in arrays]
+        param_shape = self._param_shape()
+        if param_shape:  # () changes no batch; None (unknown) is not checked
+            shapes.append(param_shape)
+        try:  # one call on the fast path (the batch: only () lobes use it, to chunk)
+            batch = np.broadcast_shapes(*shapes)
+        except ValueError:
+            named = [(_arg_name(check, i), a) for i, (a, check) in enumerate(args)]
+            raise _params.broadcast_error(
+                named, param_shape, f"the {type(self).__name__}'s parameters") from None
         n = math.prod(batch)
-        if n <= config.get_options().chunk_size or self._param_shape() != ():
+        if n <= config.get_options().chunk_size or param_shape != ():
             for a, check in args:
                 check(a)
             return fn(*arrays)
@@ -406,16 +451,32 @@ class SupportLobe(Lobe):
 
 def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
     """``(mean, standard error)`` of ``n_samples`` energy-scaled sample weights per direction
-    (``albedo(method="mc")``)."""
+    (``albedo(method="mc")``).
+
+    The samples are drawn in blocks of about ``config`` ``chunk_size`` pairs (the same
+    uniforms, in the same order, as one draw of all of them), and the mean and variance are
+    combined block by block [Chan1983], so memory stays bounded whatever ``n_samples`` and the
+    number of directions.
+    """
     n_samples = _params.integer("n_samples", n_samples, 2)
     rng = np.random.default_rng(rng)
     batch = wo.shape[:-1]
-    u = rng.random((n_samples, *batch, 3))
-    wo = np.broadcast_to(wo, u.shape)
-    s = lobe._sample(wo, u)
-    weight = s.weight * lobe._energy_scale_rgb(wo, s.wi)
-    mean = weight.mean(axis=0)
-    return mean, weight.std(axis=0, ddof=1) / np.sqrt(n_samples)
+    step = max(1, config.get_options().chunk_size // max(1, math.prod(batch)))
+    count, mean, m2 = 0, 0.0, 0.0
+    for start in range(0, n_samples, step):
+        k = min(step, n_samples - start)
+        u = rng.random((k, *batch, 3))
+        w = np.broadcast_to(wo, u.shape)
+        s = lobe._sample(w, u)
+        weight = s.weight * lobe._energy_scale_rgb(w, s.wi)
+        block_mean = weight.mean(axis=0)
+        block_m2 = np.square(weight - block_mean).sum(axis=0)
+        delta = block_mean - mean
+        total = count + k
+        mean = mean + delta * (k / total)
+        m2 = m2 + block_m2 + np.square(delta) * (count * k / total)
+        count = total
+    return mean, np.sqrt(m2 / (n_samples - 1)) / np.sqrt(n_samples)
 
 
 def finished_sample(wi, weight, pdf, flags) -> BSDFSample:

@@ -38,6 +38,7 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
+from adobe_bsdf.microfacet import saturated
 
 __all__ = ["Sum", "Layer", "Rotated", "Wrapper", "choose", "sample_where"]
 
@@ -179,7 +180,7 @@ class Sum(Lobe):
         return np.broadcast_shapes(wo.shape, wi.shape)[:-1]
 
     def _eval(self, wo, wi):
-        return self._total(self._terms("_eval", wo, wi), self._batch(wo, wi) + (3,))
+        return saturated(self._total(self._terms("_eval", wo, wi), self._batch(wo, wi) + (3,)))
 
     def _pdf(self, wo, wi):
         return self._pdf_t(wo, wi, None)
@@ -204,7 +205,7 @@ class Sum(Lobe):
             fk = fk if w is None else fk * w
             f = fk if f is None else f + fk
             pdf = P[k] * pk if pdf is None else pdf + P[k] * pk
-        return f, pdf
+        return saturated(f), pdf
 
     def _sample(self, wo, u):
         return self._sample_t(wo, u, None)
@@ -343,8 +344,10 @@ class Layer(Lobe):
         return 1.0 if self.transmittance is None else self.transmittance(w)
 
     def _scaled(self, wo):
-        """c t(wo) (1 - E_top(wo)) ``(..., 3)`` and E_top(wo)."""
-        E_top = self.top._top_albedo(wo)
+        """c t(wo) (1 - E_top(wo)) ``(..., 3)`` and E_top(wo), with E_top at most 1 (a top
+        albedo above 1 is rounding or interpolation overshoot; the base then gets nothing,
+        never a negative weight)."""
+        E_top = np.minimum(self.top._top_albedo(wo), 1.0)
         return self.coverage[..., None] * self._t(wo) * (1.0 - E_top), E_top
 
     def _weight(self, wo, wi, scaled):
@@ -362,8 +365,8 @@ class Layer(Lobe):
     # -- protocol ---------------------------------------------------------------------------
     def _eval(self, wo, wi):
         scaled, _ = self._scaled(wo)
-        return (self.coverage[..., None] * self.top._eval(wo, wi)
-                + self._weight(wo, wi, scaled) * self.base._eval(wo, wi))
+        return saturated(self.coverage[..., None] * self.top._eval(wo, wi)
+                         + self._weight(wo, wi, scaled) * self.base._eval(wo, wi))
 
     def _pdf(self, wo, wi):
         return self._pdf_t(wo, wi, None)
@@ -384,7 +387,7 @@ class Layer(Lobe):
         f_top, p_top = self.top._eval_pdf_t(wo, wi, throughput)
         f_base, p_base = self.base._eval_pdf_t(wo, wi, throughput)
         f = self.coverage[..., None] * f_top + self._weight(wo, wi, scaled) * f_base
-        return f, P[0] * p_top + P[1] * p_base
+        return saturated(f), P[0] * p_top + P[1] * p_base
 
     def _sample(self, wo, u):
         return self._sample_t(wo, u, None)
@@ -416,6 +419,7 @@ class Layer(Lobe):
 
     def _albedo_table(self, wo, with_error=True):
         E_top, err_top = self.top._albedo_table(wo, with_error)
+        E_top = np.minimum(E_top, 1.0)  # as ``_scaled``
         E_base, err_base = self.base._albedo_table(wo, with_error)
         c = self.coverage[..., None]
         W = (1.0 - c) + c * self._t(wo) ** 2 * (1.0 - E_top)

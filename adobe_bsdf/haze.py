@@ -36,17 +36,37 @@ __all__ = ["PEAK_MODELS", "wide_roughness", "peak_ratio", "haze_intensity",
 PEAK_MODELS = ("ggx", "beckmann")
 
 
+def _wide(ax, ay, lx, ly):
+    """``wide_roughness`` of validated arrays."""
+    unit = np.sqrt(ax) * np.sqrt(ay)  # not sqrt(ax ay): that underflows for tiny alphas
+    return ax + lx * unit, ay + ly * unit
+
+
 def wide_roughness(alpha_x, alpha_y, extent_x, extent_y=None):
     """Roughness of the wide lobe, alpha_w = alpha_n + lambda_h sqrt(alpha_n^x alpha_n^y)
     per axis [Barla2018, eq. 8]: the haze extents lambda_h^{x,y} >= 0 in the same units along
     both axes; isotropic, alpha_w = alpha_n (1 + lambda_h). Returns ``(alpha_w^x, alpha_w^y)``.
+
+    ``alpha_x``, ``alpha_y`` in [0, inf); ``extent_x`` in [0, inf) and ``extent_y`` (default
+    ``extent_x``) in [0, inf).
     """
     ax = _params.real("alpha_x", alpha_x, 0.0, np.inf)
     ay = _params.real("alpha_y", alpha_y, 0.0, np.inf)
-    lx = _params.real("haze_extent_x", extent_x, 0.0, np.inf)
-    ly = lx if extent_y is None else _params.real("haze_extent_y", extent_y, 0.0, np.inf)
-    unit = np.sqrt(ax) * np.sqrt(ay)  # not sqrt(ax ay): that underflows for tiny alphas
-    return ax + lx * unit, ay + ly * unit
+    lx = _params.real("extent_x", extent_x, 0.0, np.inf)
+    ly = lx if extent_y is None else _params.real("extent_y", extent_y, 0.0, np.inf)
+    return _wide(ax, ay, lx, ly)
+
+
+def _pair(name: str, value) -> tuple:
+    """``value`` as an (x, y) pair (a ``ValueError`` naming ``name`` otherwise)."""
+    if isinstance(value, (str, bytes)) or np.ndim(value) == 0 or len(value) != 2:
+        raise ValueError(f"{name} = {value!r} is not an (alpha_x, alpha_y) pair")
+    return value[0], value[1]
+
+
+def _peak(nx, ny, wx, wy):
+    """``peak_ratio`` of validated arrays."""
+    return (nx / wx) * (ny / wy)  # each ratio in (0, 1]: no underflow for tiny alphas
 
 
 def peak_ratio(alpha_n, alpha_w, model: str = "ggx"):
@@ -63,18 +83,24 @@ def peak_ratio(alpha_n, alpha_w, model: str = "ggx"):
     model : {"ggx", "beckmann"}
     """
     _params.choice("model", model, PEAK_MODELS)
-    nx = _params.real("alpha_n_x", alpha_n[0], 0.0, np.inf, lo_open=True)
-    ny = _params.real("alpha_n_y", alpha_n[1], 0.0, np.inf, lo_open=True)
-    wx = _params.real("alpha_w_x", alpha_w[0], 0.0, np.inf, lo_open=True)
-    wy = _params.real("alpha_w_y", alpha_w[1], 0.0, np.inf, lo_open=True)
-    return (nx / wx) * (ny / wy)  # each ratio in (0, 1]: no underflow for tiny alphas
+    (nx, ny), (wx, wy) = _pair("alpha_n", alpha_n), _pair("alpha_w", alpha_w)
+    return _peak(_params.real("alpha_n[0]", nx, 0.0, np.inf, lo_open=True),
+                 _params.real("alpha_n[1]", ny, 0.0, np.inf, lo_open=True),
+                 _params.real("alpha_w[0]", wx, 0.0, np.inf, lo_open=True),
+                 _params.real("alpha_w[1]", wy, 0.0, np.inf, lo_open=True))
 
 
 def _ratio_and_haziness(r_c, p, haziness):
-    r_c = _params.real("core_reflectivity", r_c, 0.0, 1.0)
-    p = _params.real("peak_ratio", p, 0.0, 1.0, lo_open=True)
+    r_c = _params.real("r_c", r_c, 0.0, 1.0)
+    p = _params.real("p", p, 0.0, 1.0, lo_open=True)
     haziness = _params.real("haziness", haziness, 0.0, 1.0)
     return r_c, p, haziness
+
+
+def _intensity(r_c, p, haziness):
+    """``haze_intensity`` of validated arrays."""
+    with np.errstate(divide="ignore", invalid="ignore"):  # p = 1: only the first branch
+        return haziness * np.where(r_c <= p, r_c / p, (1.0 - r_c) / (1.0 - p))
 
 
 def haze_intensity(r_c, p, haziness):
@@ -82,9 +108,14 @@ def haze_intensity(r_c, p, haziness):
     [Barla2018, eq. 7]: the haziness beta_h in [0, 1] is the share of the haze allowed by
     positivity (k_h <= r_c / p) and energy conservation (k_h <= (1 - r_c) / (1 - p)), eq. 6.
     r_c in [0, 1], p in (0, 1] (p = 1, haze extent 0, is the limit of one lobe)."""
-    r_c, p, haziness = _ratio_and_haziness(r_c, p, haziness)
-    with np.errstate(divide="ignore", invalid="ignore"):  # p = 1: only the first branch
-        return haziness * np.where(r_c <= p, r_c / p, (1.0 - r_c) / (1.0 - p))
+    return _intensity(*_ratio_and_haziness(r_c, p, haziness))
+
+
+def _intensity_smooth(r_c, p, haziness, w):
+    """``haze_intensity_smooth`` of validated arrays."""
+    u = _bezier_parameter(r_c, p, w)
+    v = _bezier_parameter(1.0 - r_c, 1.0 - p, w)  # 1 - u
+    return 2.0 * v * u * w * haziness / (v * v + 2.0 * v * u * w + u * u)
 
 
 def haze_intensity_smooth(r_c, p, haziness, weight):
@@ -99,13 +130,11 @@ def haze_intensity_smooth(r_c, p, haziness, weight):
     b (``_bezier_parameter``), and 1 - u from the mirrored curve (r_c -> 1 - r_c, p -> 1 - p),
     so that both ends are exact. Then
     k_h = 2 (1 - u) u w beta_h / ((1 - u)^2 + 2 (1 - u) u w + u^2) (eq. 15).
-    ``weight`` w in (0, inf).
+    ``r_c``, ``p``, ``haziness`` as ``haze_intensity``; ``weight`` w in (0, inf).
     """
     r_c, p, haziness = _ratio_and_haziness(r_c, p, haziness)
     w = _params.real("weight", weight, 0.0, np.inf, lo_open=True)
-    u = _bezier_parameter(r_c, p, w)
-    v = _bezier_parameter(1.0 - r_c, 1.0 - p, w)  # 1 - u
-    return 2.0 * v * u * w * haziness / (v * v + 2.0 * v * u * w + u * u)
+    return _intensity_smooth(r_c, p, haziness, w)
 
 
 def _bezier_parameter(x, p, w):
@@ -173,16 +202,25 @@ def haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None
     """
     r_c = _params.color("core_reflectivity", core_reflectivity, 0.0, 1.0)
     g = _params.color("edge_tint", edge_tint, 0.0, 1.0)
+    h = _params.real("haziness", haziness, 0.0, 1.0)
+    lx = _params.real("haze_extent", haze_extent, 0.0, np.inf)
+    ly = lx if haze_extent_y is None else _params.real("haze_extent_y", haze_extent_y, 0.0,
+                                                       np.inf)
     ax = _params.real("alpha_x", alpha_x, 0.0, np.inf, lo_open=True)
     ay = ax if alpha_y is None else _params.real("alpha_y", alpha_y, 0.0, np.inf,
                                                  lo_open=True)
-    alpha_w = wide_roughness(ax, ay, haze_extent, haze_extent_y)
-    p = peak_ratio((ax, ay), alpha_w, model)
+    w = (None if smooth_weight is None
+         else _params.real("smooth_weight", smooth_weight, 0.0, np.inf, lo_open=True))
+    _params.choice("model", model, PEAK_MODELS)
+    named = [("core_reflectivity", r_c, 1), ("edge_tint", g, 1), ("haziness", h, 0),
+             ("haze_extent", lx, 0), ("haze_extent_y", ly, 0), ("alpha_x", ax, 0),
+             ("alpha_y", ay, 0)] + ([] if w is None else [("smooth_weight", w, 0)])
+    _params.batch_shape([(n, a) for n, a, _ in named], trailing=[t for *_, t in named])
+    alpha_w = _wide(ax, ay, lx, ly)
+    p = _peak(ax, ay, *alpha_w)
+    _check_derived(alpha_w, p, lx, ly, ax, ay)
     r_hat_c = r_c.max(axis=-1)
-    if smooth_weight is None:
-        k_h = haze_intensity(r_hat_c, p, haziness)
-    else:
-        k_h = haze_intensity_smooth(r_hat_c, p, haziness, smooth_weight)
+    k_h = _intensity(r_hat_c, p, h) if w is None else _intensity_smooth(r_hat_c, p, h, w)
     r_hat = r_hat_c + (1.0 - p) * k_h
     with np.errstate(divide="ignore", invalid="ignore"):  # r^_c = 0: no haze
         scale = np.where(r_hat_c > 0.0, r_hat / r_hat_c, 1.0)
@@ -193,3 +231,17 @@ def haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None
     eta = np.where(mirror, np.inf, eta)
     kappa = np.where(mirror, np.inf, kappa)
     return HazeMapping(r, eta, kappa, beta, (ax, ay), alpha_w, p, k_h)
+
+
+def _check_derived(alpha_w, p, lx, ly, ax, ay):
+    """Raise, naming the user's parameters, where huge haze extents overflow alpha_w or
+    underflow p to 0 (alpha_w / alpha_n beyond ~1e154 per axis)."""
+    bad = ~(np.isfinite(alpha_w[0]) & np.isfinite(alpha_w[1]) & (p > 0.0))
+    if np.any(bad):
+        def first(a):
+            return np.broadcast_to(a, bad.shape)[bad].flat[0].item()
+        raise ValueError(f"haze_extent = {first(lx)!r} (haze_extent_y = {first(ly)!r}) with "
+                         f"alpha_x = {first(ax)!r}, alpha_y = {first(ay)!r} makes the wide "
+                         "lobe's roughness alpha_w = alpha_n + haze_extent sqrt(alpha_x "
+                         "alpha_y) overflow or its peak ratio p (eq. 8, Table 2) underflow "
+                         "to 0; allowed: haze extents with alpha_w finite and p > 0")

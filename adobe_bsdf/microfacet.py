@@ -40,6 +40,40 @@ ALPHA_MIN = 1e-8
 MASKING = ("correlated", "separable")
 
 
+#: |h|^2 below which ``D_of_sum`` rescales h: the fourth powers of smaller components would
+#: leave the normal float64 range (grazing pairs of cosine ~1e-85 and below)
+SMALL_LENGTH2 = 2.0**-400
+
+
+#: the largest finite float64: values beyond it saturate there (``saturated``)
+FLOAT_MAX = float(np.finfo(np.float64).max)
+#: 1 / FLOAT_MAX: denominators below it would overflow a reciprocal
+DEN_MIN = 1.0 / FLOAT_MAX
+
+
+def saturated(x):
+    """``x`` with values beyond the float64 range rounded to ``FLOAT_MAX`` (in place where
+    ``x`` is a writeable array). At grazing pairs with tiny roughness a BSDF value can exceed
+    1.8e308 (f ~ 1 / (4 pi alpha^3 cos) for a mirror pair) while f cos stays finite; the
+    lobe then returns the largest finite float64, as round-toward-zero would, never inf."""
+    if isinstance(x, np.ndarray) and x.flags.writeable:
+        return np.minimum(x, FLOAT_MAX, out=x)
+    return np.minimum(x, FLOAT_MAX)
+
+
+def rescaled(hx, hy, hz, length2):
+    """``(hx, hy, hz, |h|^2)`` with h multiplied by a power of two (exactly) where
+    |h|^2 < ``SMALL_LENGTH2``, so that its largest component lies in [0.5, 1): D depends on the
+    direction of h only. Unchanged (the same objects) where no element is that small."""
+    small = length2 < SMALL_LENGTH2
+    if not np.any(small):
+        return hx, hy, hz, length2
+    largest = np.maximum(np.maximum(np.abs(hx), np.abs(hy)), np.abs(hz))
+    exponent = np.where(small, -np.frexp(largest)[1], 0)
+    hx, hy, hz = (np.ldexp(c, exponent) for c in (hx, hy, hz))
+    return hx, hy, hz, np.where(small, hx * hx + hy * hy + hz * hz, length2)
+
+
 def _stack(x, y, z) -> np.ndarray:
     """Components (broadcast against each other) to vectors ``(..., 3)``."""
     return np.stack(np.broadcast_arrays(x, y, z), axis=-1)
@@ -191,13 +225,15 @@ class _Distribution(_params.Validated):
         return np.where(den > 0.0, zi * (zo + so) / np.where(den > 0.0, den, 1.0), 0.0)
 
     def V_of(self, abs_zo, s_o, abs_zi, s_i):
-        """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``)."""
+        """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``), at
+        most ``FLOAT_MAX`` (``saturated``)."""
         if self.masking == "separable":
             den = (abs_zo + s_o) * (abs_zi + s_i)
         else:
             den = abs_zi * s_o
             den += abs_zo * s_i
             den *= 2.0
+        den = np.maximum(den, DEN_MIN, out=den if isinstance(den, np.ndarray) else None)
         return np.divide(1.0, den, out=den if isinstance(den, np.ndarray) else None)
 
     def G2_over_G1_of(self, abs_zo, s_o, abs_zi, s_i):
@@ -285,7 +321,9 @@ class GGX(_Distribution):
         """D(h / |h|) of an unnormalised h with |h|^2 = ``length2`` ([Walter2007, eq. 33]
         rewritten: D = |h|^4 / (pi ax ay Q^2), Q = (hx/ax)^2 + (hy/ay)^2 + hz^2);
         0 where hz <= 0 unless ``upper`` (the caller knows hz > 0, or masks). Inf or NaN
-        where h = 0 (the caller masks those)."""
+        where h = 0 (the caller masks those); h of any length down to subnormal components
+        (``rescaled``)."""
+        hx, hy, hz, length2 = rescaled(hx, hy, hz, length2)
         q = hx / self._ax
         q *= q
         t = hy / self._ay
@@ -352,14 +390,15 @@ class Beckmann(_Distribution):
         and a = |wz| / t: [Heitz2014, eq. 83] as S = |wz| (1 + 2 Lambda), a sum of
         non-negative terms; |wz| at normal incidence (t = 0), t / sqrt(pi) at grazing."""
         t = np.hypot(self.alpha_x * x, self.alpha_y * y)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # a = inf: erf 1
             a = abs_z / t
             s = abs_z * special.erf(a) + t * np.exp(-a * a) / np.sqrt(np.pi)
-        return np.where(t > 0.0, s, abs_z)
+        return np.where(t > 0.0, s, np.abs(abs_z))  # |wz| at normal incidence, either side
 
     def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
         """D(h / |h|) of an unnormalised h: exp(-((hx/ax)^2 + (hy/ay)^2) / hz^2) |h|^4 /
-        (pi ax ay hz^4); 0 where hz <= 0 unless ``upper``."""
+        (pi ax ay hz^4); 0 where hz <= 0 unless ``upper``; h of any length (``rescaled``)."""
+        hx, hy, hz, length2 = rescaled(hx, hy, hz, length2)
         hz2 = hz * hz
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             g = np.exp(-((hx / self._ax) ** 2 + (hy / self._ay) ** 2) / hz2)
@@ -383,7 +422,7 @@ class Beckmann(_Distribution):
         shape = np.broadcast_shapes(np.shape(wz), np.shape(u0), np.shape(u1), self.param_shape)
         sx, sy, sz = self._stretched_direction(wx, wy, wz)
         sin_t = np.hypot(sx, sy)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # sin_t subnormal
             cos_p = np.where(sin_t > 0.0, sx / sin_t, 1.0)
             sin_p = np.where(sin_t > 0.0, sy / sin_t, 0.0)
             mu = sz / sin_t  # +inf at normal incidence
@@ -417,7 +456,8 @@ def _beckmann_visible_slope(mu, u):
     root_pi_2 = 0.5 * np.sqrt(np.pi)
 
     def n_of(x):
-        return m * root_pi_2 * special.erfc(-x) + 0.5 * np.exp(-x * x)
+        with np.errstate(over="ignore"):  # x^2 = inf near normal incidence: exp(-x^2) = 0
+            return m * root_pi_2 * special.erfc(-x) + 0.5 * np.exp(-x * x)
 
     target = u * n_of(m)
     lo = np.full(m.shape, SLOPE_MIN)

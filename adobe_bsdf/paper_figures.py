@@ -60,8 +60,7 @@ class Scene:
 
 
 def asm_fig3() -> Scene:
-    metals = {name: AdobeStandardMaterial(metallic=1.0, base_color=m["f0"],
-                                          specular_edge_color=m["tint"], roughness=0.25)
+    metals = {name: AdobeStandardMaterial(**m, roughness=0.25)
               for name, m in presets.metals.items()}
     return Scene("Table 1 metals, roughness 0.25", "[Kutz2021, Fig. 3]", "sky", 7, metals,
                  "Base colour F0 and specular edge colour (F82 tint) of Table 1; the "
@@ -74,9 +73,7 @@ FIG6_LEVELS, FIG6_ROUGHNESS = (0.0, 0.5, 0.75, 1.0), (0.1, 0.25, 0.4, 0.6)
 
 def asm_fig6() -> Scene:
     al = presets.metals["Al"]
-    grid = {f"a = {a:g}, r = {r:g}": AdobeStandardMaterial(
-                metallic=1.0, base_color=al["f0"], specular_edge_color=al["tint"],
-                roughness=r, anisotropy_level=a)
+    grid = {f"a = {a:g}, r = {r:g}": AdobeStandardMaterial(**al, roughness=r, anisotropy_level=a)
             for a in FIG6_LEVELS for r in FIG6_ROUGHNESS}
     return Scene("anisotropy level (rows) x roughness (columns)", "[Kutz2021, Fig. 6]", "sun",
                  len(FIG6_ROUGHNESS), grid,

@@ -8,7 +8,11 @@ Public API
     environments: L(w) for directions w pointing away from the scene, with sampling.
 ``sky(height=64)``     a synthetic equirectangular sky (made in code, nothing downloaded).
 ``studio(height=128)``  a synthetic studio: grey room, vertical light strips (made in code).
-``to_srgb8(image)``    linear radiance to 8-bit sRGB; ``write_png(path, image)`` saves it.
+``tone_map(image, exposure=0, tonemap="clip")``  linear radiance to display values in [0, 1]:
+                       ``exposure`` stops, then ``"clip"`` (clip to [0, 1]) or ``"aces"`` (the
+                       fitted ACES filmic curve of [Narkowicz2016], per channel).
+``to_srgb8(image, exposure=0, tonemap="clip")``  the same, then 8-bit sRGB;
+                       ``write_png(path, image, exposure=0, tonemap="clip")`` saves it.
 
 The camera is orthographic, looking down -z at the unit sphere; y is up in the image. Each
 pixel that hits the sphere traces paths: at a point p the shading normal is p and the
@@ -32,7 +36,11 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, Lobe, luminance
 from adobe_bsdf.frame import Frame, normalize
 
-__all__ = ["sphere", "Uniform", "Sun", "EquirectMap", "sky", "studio", "to_srgb8", "write_png"]
+__all__ = ["sphere", "Uniform", "Sun", "EquirectMap", "sky", "studio", "tone_map", "to_srgb8",
+           "write_png"]
+
+#: the tone curves of ``tone_map``, ``to_srgb8`` and ``write_png``
+TONEMAPS = ("clip", "aces")
 
 
 class Uniform:
@@ -284,17 +292,57 @@ def sphere(bsdf: Lobe, env="furnace", size: int = 128, spp: int = 64, seed: int 
     return image
 
 
-def to_srgb8(image) -> np.ndarray:
-    """Linear radiance ``(..., 3)`` to 8-bit sRGB (IEC 61966-2-1 transfer), clipped to
-    [0, 1] first."""
-    c = np.clip(_params.real("image", image, -np.inf, np.inf), 0.0, 1.0)
+def _aces(x: np.ndarray) -> np.ndarray:
+    """The fitted ACES curve [Narkowicz2016]: x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14),
+    saturated to [0, 1] as in the reference listing (negative inputs give 0)."""
+    x = np.maximum(x, 0.0)
+    return np.minimum(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 1.0)
+
+
+def tone_map(image, exposure: float = 0.0, tonemap: str = "clip") -> np.ndarray:
+    """Linear radiance ``(..., 3)`` to linear display values in [0, 1].
+
+    Parameters
+    ----------
+    image : array_like (..., 3)
+        Linear radiance, finite.
+    exposure : float
+        Stops: the radiance is multiplied by ``2**exposure`` before the curve; finite.
+    tonemap : {"clip", "aces"}
+        ``"clip"`` (default): values are clipped to [0, 1]; a saturated colour brighter
+        than 1 loses its hue (a red whose red channel is cut at 1 turns pink). ``"aces"``:
+        the fitted ACES filmic curve of [Narkowicz2016], per channel,
+        ``f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`` saturated to [0, 1]:
+        increasing, ``f(0) = 0``, ``f(1) = 0.80``, ``f(x) = 1`` from x = 7.24 on; it
+        compresses highlights instead of cutting them. Negative values give 0 in both.
+
+    Returns
+    -------
+    ndarray (..., 3)
+        Display-linear values in [0, 1] (before the sRGB transfer function).
+    """
+    img = _params.real("image", image, -np.inf, np.inf)
+    ev = _params.real("exposure", exposure, -np.inf, np.inf)
+    if ev.ndim:
+        raise ValueError(f"exposure has shape {ev.shape}; allowed: a single number (stops)")
+    curve = _params.choice("tonemap", tonemap, TONEMAPS)
+    if float(ev) != 0.0:
+        img = img * 2.0 ** float(ev)
+    return np.clip(img, 0.0, 1.0) if curve == "clip" else _aces(img)
+
+
+def to_srgb8(image, exposure: float = 0.0, tonemap: str = "clip") -> np.ndarray:
+    """Linear radiance ``(..., 3)`` to 8-bit sRGB: ``tone_map(image, exposure, tonemap)``, then
+    the IEC 61966-2-1 transfer function. With the defaults the values are clipped to [0, 1]."""
+    c = tone_map(image, exposure, tonemap)
     s = np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
     return np.round(s * 255.0).astype(np.uint8)
 
 
-def write_png(path, image) -> None:
-    """Save a linear image ``(h, w, 3)`` as an 8-bit sRGB PNG (zlib, no extra dependency)."""
-    rgb = to_srgb8(image)
+def write_png(path, image, exposure: float = 0.0, tonemap: str = "clip") -> None:
+    """Save a linear image ``(h, w, 3)`` as an 8-bit sRGB PNG (zlib, no extra dependency),
+    through ``to_srgb8(image, exposure, tonemap)``."""
+    rgb = to_srgb8(image, exposure, tonemap)
     if rgb.ndim != 3 or rgb.shape[-1] != 3:
         raise ValueError(f"image has shape {rgb.shape}; allowed (height, width, 3)")
     h, w = rgb.shape[:2]

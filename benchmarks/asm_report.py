@@ -331,8 +331,8 @@ def markdown(rows, seconds):
             delta = "–"
             d0 = dt = "–"
         else:
-            e0 = fit.f0 - np.array(table["f0"])
-            et = fit.tint - np.array(table["tint"])
+            e0 = fit.f0 - np.array(table["base_color"])
+            et = fit.tint - np.array(table["specular_edge_color"])
             d0, dt = _signed(e0), _signed(et)
             worst = max(np.abs(e0).max(), np.abs(et).max())
             delta = f"{np.abs(e0).max():.4f}, {np.abs(et).max():.4f}"

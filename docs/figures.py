@@ -35,8 +35,8 @@ THETA_O = 0.6  # radians, for the slices
 
 def lobes_figure(path: Path) -> None:
     lobes = {"GGX conductor, gold, alpha 0.2": ab.materials.asm.asm_metal(
-                 ab.materials.presets.metals["Au"]["f0"],
-                 ab.materials.presets.metals["Au"]["tint"], 0.45),
+                 ab.materials.presets.metals["Au"]["base_color"],
+                 ab.materials.presets.metals["Au"]["specular_edge_color"], 0.45),
              "rough glass eta 1.5, alpha 0.1": ab.lobes.Dielectric(1.5, 0.1),
              "ASM sheen r 0.4": ab.lobes.Sheen(1.0, 0.4),
              "hazy gloss [Barla2018]": ab.hazy.HazyGloss(0.04, 0.5, 4.0, 0.05)}

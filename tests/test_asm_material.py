@@ -128,8 +128,7 @@ def _tables_cover(p):
 
 # -- acceptance 3: sampling ---------------------------------------------------------------------
 MATERIALS = {
-    "metal": dict(metallic=1.0, roughness=0.3, base_color=GOLD["f0"],
-                  specular_edge_color=GOLD["tint"]),
+    "metal": dict(GOLD, roughness=0.3),
     "dielectric + diffuse": dict(base_color=(0.8, 0.2, 0.1), roughness=0.4),
     "anisotropic half metal": dict(base_color=(0.3, 0.5, 0.7), metallic=0.5, roughness=0.3,
                                    anisotropy_level=0.8, anisotropy_angle=0.2),

@@ -12,6 +12,7 @@ from adobe_bsdf.validation.chi2 import chi2_test
 from tests.tolerances import CHI2_ALPHA, FURNACE_TABLE, RECIPROCITY_TABLE
 
 GOLD = ab.materials.presets.metals["Au"]
+F0, TINT = GOLD["base_color"], GOLD["specular_edge_color"]
 
 
 def _wo(c, phi=0.4):
@@ -20,10 +21,9 @@ def _wo(c, phi=0.4):
 
 
 def test_f82_tint_object_is_the_function():
-    F = ab.fresnel.F82Tint(GOLD["f0"], GOLD["tint"], 0.9, 4.0)
+    F = ab.fresnel.F82Tint(F0, TINT, 0.9, 4.0)
     mu = np.linspace(0.0, 1.0, 101)
-    np.testing.assert_array_equal(F(mu), ab.fresnel.f82_tint(mu, GOLD["f0"], GOLD["tint"],
-                                                             0.9, 4.0))
+    np.testing.assert_array_equal(F(mu), ab.fresnel.f82_tint(mu, F0, TINT, 0.9, 4.0))
     np.testing.assert_allclose(F.from_cos2(mu * mu), F(mu), rtol=1e-15)
 
 
@@ -40,7 +40,7 @@ def test_white_metal_furnace(roughness):
 @given(r=st.floats(0.0, 1.0), a=st.floats(0.0, 1.0), angle=st.floats(0.0, 1.0),
        pair=vs.direction_pairs("reflection"))
 def test_reciprocity(r, a, angle, pair):
-    lobe = ab.materials.asm.asm_metal(GOLD["f0"], GOLD["tint"], r, a, angle)
+    lobe = ab.materials.asm.asm_metal(F0, TINT, r, a, angle)
     result = checks.reciprocity_error(lobe, *pair, rtol=RECIPROCITY_TABLE)
     assert result.passed, result
 
@@ -50,7 +50,7 @@ CASES = [(0.4, 0.6, 0.15, 0.8), (0.3, 1.0, 0.25, 0.4), (0.7, 0.3, 0.0, 0.1)]
 
 @pytest.mark.parametrize(("r", "a", "angle", "cos_theta"), CASES)
 def test_chi2(r, a, angle, cos_theta):
-    lobe = ab.materials.asm.asm_metal(GOLD["f0"], GOLD["tint"], r, a, angle)
+    lobe = ab.materials.asm.asm_metal(F0, TINT, r, a, angle)
     result = chi2_test(lobe, _wo(cos_theta), n_samples=500_000, seed=CASES.index((r, a, angle,
                                                                                   cos_theta)),
                        alpha=CHI2_ALPHA, n_tests=len(CASES))

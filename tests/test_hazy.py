@@ -162,9 +162,9 @@ def test_dielectric_mapping_and_extremes():
 
 
 @pytest.mark.parametrize("kwargs, name", [
-    ({"haziness": 1.5}, "haziness"), ({"haze_extent": -1.0}, "haze_extent_x"),
-    ({"core_reflectivity": 1.2}, "core_reflectivity"), ({"model": "phong"}, "model"),
-    ({"alpha_x": 0.0}, "alpha_x"), ({"smooth_weight": 0.0}, "weight")])
+    ({"haziness": 1.5}, "^haziness = 1.5"), ({"haze_extent": -1.0}, "^haze_extent = -1"),
+    ({"core_reflectivity": 1.2}, "^core_reflectivity = 1.2"), ({"model": "phong"}, "^model"),
+    ({"alpha_x": 0.0}, "^alpha_x = 0"), ({"smooth_weight": 0.0}, "^smooth_weight = 0")])
 def test_bad_input(kwargs, name):
     args = {"core_reflectivity": 0.5, "haziness": 0.5, "haze_extent": 5.0, "alpha_x": 0.05,
             **kwargs}

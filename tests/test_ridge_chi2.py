@@ -17,6 +17,7 @@ from adobe_bsdf.validation.stretch import Stretched, ridge_stretch
 from tests.tolerances import CHI2_ALPHA, EXACT, WEIGHT
 
 GOLD = ab.materials.presets.metals["Au"]
+F0, TINT = GOLD["base_color"], GOLD["specular_edge_color"]
 #: across-ridge stretch: alpha_y = 1e-8 becomes a slope width of 0.1
 FACTOR = 1e7
 #: a general invertible matrix (shear, scale, tilt of z) for the Jacobian tests
@@ -40,7 +41,7 @@ def _in_plane(phi, cos_theta):
 
 def _ridge_lobe(kind, angle):
     if kind == "metal":
-        return ab.materials.asm.asm_metal(GOLD["f0"], GOLD["tint"], roughness=0.0,
+        return ab.materials.asm.asm_metal(F0, TINT, roughness=0.0,
                                           anisotropy_level=1.0, anisotropy_angle=angle)
     phi = float(ab.materials.asm.anisotropy_rotation(angle))
     alphas = ab.materials.asm.asm_alpha(0.0, 1.0)

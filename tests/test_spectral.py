@@ -19,8 +19,8 @@ TABLE_1_TOL = 0.01
 def test_table_1_reproduced_from_measured_spectra(metal):
     fit = spectral.fit_f82_tint(*spectral.metal_ior(REPRODUCED[metal]))
     table = ab.materials.presets.metals[metal]
-    np.testing.assert_allclose(fit.f0, table["f0"], atol=TABLE_1_TOL)
-    np.testing.assert_allclose(fit.tint, table["tint"], atol=TABLE_1_TOL)
+    np.testing.assert_allclose(fit.f0, table["base_color"], atol=TABLE_1_TOL)
+    np.testing.assert_allclose(fit.tint, table["specular_edge_color"], atol=TABLE_1_TOL)
 
 
 def test_white_spectrum_is_white_and_the_colour_is_linear():
@@ -75,8 +75,8 @@ def test_conductor_from_f82_tint_passes_through_both_points():
     """For every Table 1 channel with F0 < 1: the effective n + i k reflects F0 at normal
     incidence and tint Schlick(F0, 1/7) at cos = 1/7 (to rounding); F0 = 1 is the mirror."""
     metals = ab.materials.presets.metals
-    f0 = np.array([m["f0"] for m in metals.values()])
-    tint = np.array([m["tint"] for m in metals.values()])
+    f0 = np.array([m["base_color"] for m in metals.values()])
+    tint = np.array([m["specular_edge_color"] for m in metals.values()])
     eta, k, residual = spectral.conductor_from_f82_tint(f0, tint)
     finite = f0 < 1.0
     ones = np.ones(len(f0))

@@ -10,7 +10,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
-from adobe_bsdf.microfacet import distribution
+from adobe_bsdf.microfacet import distribution, saturated
 
 __all__ = ["Dielectric", "interface_energy_scale", "passes_through", "MIN_TRANSMISSION_WIDTH"]
 
@@ -158,7 +158,7 @@ class Dielectric(Lobe):
                 o_down = oz < 0.0
                 groups = [(1.0, o_up & i_up, True), (1.0, o_up & i_down, False),
                           (-1.0, o_down & i_down, True), (-1.0, o_down & i_up, False)]
-            with np.errstate(divide="ignore", invalid="ignore"):
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 for side, mask, reflection in groups:
                     index = np.flatnonzero(mask)
                     if len(index):
@@ -196,7 +196,7 @@ class Dielectric(Lobe):
                 self.passes, batch).reshape(-1)[index])
             value = [None if v is None else np.where(off, 0.0, v) for v in value]
         if f is not None:
-            f[index] = value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi))
+            f[index] = saturated(value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi)))
         if pdf is not None:
             pdf[index] = P * value[1]
 
@@ -234,7 +234,9 @@ class Dielectric(Lobe):
         length2 = hx * hx
         length2 += hy * hy
         length2 += hz * hz
-        inv = np.copysign(1.0 / np.sqrt(length2), hz)  # h turned up (sign of 0 irrelevant)
+        # h turned up; a facet in the tangent plane (hz = 0, a sampled normal with mz ~ 1e-16
+        # rounds there) is turned to face wo, as the sampler's normal did
+        inv = np.copysign(1.0 / np.sqrt(length2), np.where(hz != 0.0, hz, ox * hx + oy * hy))
         cos_oh = ox * hx + oy * hy + zo * hz
         cos_oh *= inv
         cos_ih = ix * hx + iy * hy + zi * hz
@@ -247,7 +249,7 @@ class Dielectric(Lobe):
         T = 4.0 * cos_oh * np.abs(cos_ih) * (1.0 - F) / (den_t * den_t)
         valid = (cos_oh > 0.0) & (cos_ih < 0.0)
         T = np.where(valid, T, 0.0)
-        D = d.D_of_sum(hx, hy, np.abs(hz), length2)
+        D = d.D_of_sum(hx, hy, np.abs(hz), length2, upper=True)  # the horizon's limit at hz = 0
         return [eta_o * eta_o * T * D if want_f else None,
                 eta_i * eta_i * T if want_pdf else None], D / (2.0 * (zo + s_o))
 
@@ -287,7 +289,7 @@ class Dielectric(Lobe):
         b = np.where(choose_r, 1.0, inv_eta)
         ix, iy, iz = a * mx - b * ox, a * my - b * oy, a * mz - b * zo
         ok = (zo > 0.0) & (cos_om > 0.0) & np.where(choose_r, iz > 0.0, refracted & (iz < 0.0))
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, zo)
             g = np.where(smooth, 1.0,
                          d.G2_over_G1_of(zo, s_o, np.abs(iz), d.projected(ix, iy, iz)))
@@ -318,8 +320,11 @@ class Dielectric(Lobe):
         weight; (1 + Lambda) / (1 + 2 Lambda) for height-correlated masking, G1 separable)."""
         d = self.distribution
         s_o = d.projected(ox, oy, zo)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            limit = d.G2_over_G1_of(zo, s_o, zo, s_o)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            # G2_over_G1_of(zo, s_o, zo, s_o) with zo cancelled: zo^2 underflows for
+            # subnormal cosines (0 / 0); correlated (1 + L) / (1 + 2 L) = (zo + S) / (2 S)
+            limit = (2.0 * zo / (zo + s_o) if d.masking == "separable"
+                     else (zo + s_o) / (2.0 * s_o))
         return np.where((self.eta == 1.0) | d.smooth, 1.0, limit)
 
     def _delta_albedo(self, wo):

@@ -9,6 +9,7 @@ from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.composition import choose, sample_where
 from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy, wavelengths
 from adobe_bsdf.lobes.dielectric import Dielectric, interface_energy_scale
+from adobe_bsdf.lobes.energy_lookup import checked_ratio
 from adobe_bsdf.microfacet import distribution
 
 __all__ = ["Dispersive", "channel_probabilities"]
@@ -127,6 +128,9 @@ class Dispersive(Lobe):
         return self._each("_delta_albedo", wo)
 
     def _albedo_table(self, wo, with_error=True):
+        # a channel's index outside the tables: a message naming the channel and dispersion
+        checked_ratio(self.eta, "ggx_dielectric_outside and ggx_dielectric_inside",
+                      dispersion=self.dispersion)
         parts = [ch._albedo_table(wo, with_error) for ch in self.channels]
         value = np.stack([p[0][..., c] for c, p in zip(_CHANNELS, parts, strict=True)], -1)
         error = (np.stack([p[1][..., c] for c, p in zip(_CHANNELS, parts, strict=True)], -1)

@@ -9,7 +9,7 @@ from adobe_bsdf import quadrature, tables
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.fresnel import ExactDielectric, Fresnel, FresnelFunction
 from adobe_bsdf.lobes.energy_lookup import checked_ratio, conductor_energy, grey, sides, table_alpha
-from adobe_bsdf.microfacet import distribution
+from adobe_bsdf.microfacet import distribution, saturated
 
 __all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection"]
 
@@ -100,7 +100,7 @@ class MicrofacetReflection(SupportLobe):
         """f = F D V (``GGX.V_of``), 0 outside ``up``."""
         d = self.distribution
         iz = wi[..., 2]
-        DV = D * d.V_of(wo[..., 2], s_o, iz, d.projected(wi[..., 0], wi[..., 1], iz))
+        DV = saturated(D * d.V_of(wo[..., 2], s_o, iz, d.projected(wi[..., 0], wi[..., 1], iz)))
         if up is not None:
             DV = np.where(up, DV, 0.0)
         F = self._F2(0.25 * length2)
@@ -126,17 +126,17 @@ class MicrofacetReflection(SupportLobe):
         return inside
 
     def _eval_kernel(self, wo, wi, up):
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             D, length2, s_o = self._half(wo, wi, up)
             return self._f(wo, wi, up, D, length2, s_o)
 
     def _pdf_kernel(self, wo, wi, up):
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             D, _, s_o = self._half(wo, wi, up)
             return self._p(wo, up, D, s_o)
 
     def _eval_pdf_kernel(self, wo, wi, up):
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             D, length2, s_o = self._half(wo, wi, up)
             pdf = self._p(wo, up, D, s_o)
             return self._f(wo, wi, up, D, length2, s_o), pdf
@@ -151,7 +151,7 @@ class MicrofacetReflection(SupportLobe):
         iz = wi[..., 2]
         ok = (oz > 0.0) & (iz > 0.0) & (cos_om > 0.0)
         smooth = np.broadcast_to(d.smooth, ok.shape)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, oz)
             s_i = d.projected(wi[..., 0], wi[..., 1], iz)
             D = d.D_of_sum(mx, my, mz, 1.0)
@@ -233,7 +233,7 @@ class DielectricReflection(MicrofacetReflection):
 
     def _albedo_table(self, wo, with_error=True):
         alpha, ratio = table_alpha(self.distribution), checked_ratio(self.eta)
-        mu = np.maximum(wo[..., 2], 0.0)
+        mu = np.clip(wo[..., 2], 0.0, 1.0)  # 1 + an ulp by rounding is 1
         outside = tables.get("ggx_dielectric_outside")
         inside = tables.get("ggx_dielectric_inside")
         light = sides(self.eta)[0]

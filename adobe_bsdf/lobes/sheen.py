@@ -27,6 +27,7 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.lobes.energy_lookup import lookup
+from adobe_bsdf.microfacet import DEN_MIN, rescaled, saturated
 
 __all__ = ["Sheen", "R_SIMILAR"]
 
@@ -122,6 +123,7 @@ class Sheen(SupportLobe):
         sx = wo[..., 0] + wi[..., 0]
         sy = wo[..., 1] + wi[..., 1]
         sz = wo[..., 2] + wi[..., 2]
+        sx, sy, sz, _ = rescaled(sx, sy, sz, sx * sx + sy * sy + sz * sz)  # tiny sums
         horizontal = sx * sx + sy * sy
         length2 = horizontal + sz * sz
         r = self.roughness
@@ -143,7 +145,7 @@ class Sheen(SupportLobe):
     def _f(self, wo, wi, up, D):
         """D G / (4 cos_i cos_o) (eq. 15 without c a), 0 outside ``up``."""
         e, K = self._shadowing(wo[..., 2], wi[..., 2], self._sigma(wo), self._sigma(wi))
-        DG = D * e / (4.0 * K)
+        DG = saturated(D * e / np.maximum(4.0 * K, DEN_MIN))
         return DG if up is None else np.where(up, DG, 0.0)
 
     def _p(self, wo, up, D):
@@ -153,7 +155,7 @@ class Sheen(SupportLobe):
 
     def _eval_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            return self._scale * self._f(wo, wi, up, self._D(wo, wi))[..., None]
+            return saturated(self._scale * self._f(wo, wi, up, self._D(wo, wi))[..., None])
 
     def _pdf_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -162,7 +164,7 @@ class Sheen(SupportLobe):
     def _eval_pdf_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             D = self._D(wo, wi)
-            return self._scale * self._f(wo, wi, up, D)[..., None], self._p(wo, up, D)
+            return saturated(self._scale * self._f(wo, wi, up, D)[..., None]), self._p(wo, up, D)
 
     # -- sampling ---------------------------------------------------------------------------
     def _sample(self, wo, u):

@@ -1,15 +1,23 @@
-"""Named parameter sets from the source papers, as keyword arguments of the library's lobes.
+"""Named parameter sets from the source papers, each a dict of keyword arguments of the
+constructor it is for, so that it builds its material or lobe directly.
 
+``metals``       ``ab.materials.AdobeStandardMaterial(**metals[name])``: [Kutz2021, Table 1] as
+                 ``{"metallic": 1.0, "base_color": F0, "specular_edge_color": F82 tint}`` in
+                 linear Rec. 709 (the ASM's "Base Color" and "Specular Edge Color"); the two
+                 colours are also the arguments of ``ab.fresnel.F82Tint(f0, tint)`` and of
+                 ``ab.materials.asm.asm_metal(base_color, specular_edge_color, ...)``.
 ``hazy``         ``ab.hazy.HazyGloss(**hazy[name])``: the materials of [Barla2018, Table 3]
                  (Figs. 1 and 11) and of the captions that fix every parameter (Fig. 9).
 ``hazy_sweeps``  captions that vary one parameter with the others fixed:
-                 ``(fixed keyword arguments, swept parameter, (first, last) value)``.
-``metals``       [Kutz2021, Table 1]: ``{"f0": F0, "tint": F82 tint}`` in linear Rec. 709, for
-                 ``ab.fresnel.f82_tint(cos, **metals[name])`` (base colour, edge colour).
-``media``        [Kutz2021, Table 3]: measured materials [Jensen2001] as ``ab.media.asm_medium``
-                 keyword arguments (scattering distance, colour, Rayleigh).
-``dispersion``   [Kutz2021, Table 2]: ``{"ior": n_d, "abbe": V_d}`` of real materials
-                 (``ab.dispersion.abbe_to_dispersion(abbe)`` is their "Dispersion").
+                 ``(fixed keyword arguments, swept parameter, (first, last) value)``; the fixed
+                 ones with a value of the swept one build ``ab.hazy.HazyGloss``.
+``media``        ``ab.media.asm_medium(**media[name])``: [Kutz2021, Table 3], measured
+                 materials [Jensen2001] (scattering distance, colour, Rayleigh); the same
+                 names are ``AdobeStandardMaterial`` keywords.
+``dispersion``   [Kutz2021, Table 2]: ``{"ior": n_d, "abbe": V_d}`` of real materials, for
+                 ``AdobeStandardMaterial(ior=d["ior"],
+                 dispersion=ab.dispersion.abbe_to_dispersion(d["abbe"]))``: the Abbe number is
+                 not an ASM keyword; ``abbe_to_dispersion`` gives its "Dispersion".
 
 [Barla2018, Table 3] names its reflectivity column r_p: the peak (core) reflectivity r_c of
 [Barla2018, §2.2].
@@ -47,21 +55,26 @@ media = {
     "Wholemilk": _medium(0.03228, (0.9532, 0.9389, 0.8694), 0.3016),
 }
 
+
+def _metal(f0, tint):
+    return {"metallic": 1.0, "base_color": f0, "specular_edge_color": tint}
+
+
 metals = {
     # [Kutz2021, Table 1]: F0 ("Base Color") and F82 tint ("Specular Edge Color"), linear Rec. 709
-    "Ag": {"f0": (0.9868, 0.9830, 0.9667), "tint": (0.9929, 0.9961, 1.0000)},
-    "Al": {"f0": (0.9157, 0.9226, 0.9236), "tint": (0.9090, 0.9365, 0.9596)},
-    "Au": {"f0": (1.0000, 0.7099, 0.3148), "tint": (0.9408, 0.9636, 0.9099)},
-    "Cr": {"f0": (0.5496, 0.5561, 0.5531), "tint": (0.7372, 0.7511, 0.8170)},
-    "Cu": {"f0": (1.0000, 0.6504, 0.5274), "tint": (0.9755, 0.9349, 0.9301)},
-    "Fe": {"f0": (0.8951, 0.8755, 0.8154), "tint": (0.8551, 0.8800, 0.8966)},
-    "Hg": {"f0": (0.7815, 0.7795, 0.7783), "tint": (0.8103, 0.8532, 0.9046)},
-    "Mg": {"f0": (0.8918, 0.8821, 0.8948), "tint": (0.8949, 0.9147, 0.9504)},
-    "Ni": {"f0": (0.7014, 0.6382, 0.5593), "tint": (0.8134, 0.8352, 0.8725)},
-    "Pd": {"f0": (0.7363, 0.7023, 0.6602), "tint": (0.8095, 0.8369, 0.8739)},
-    "Pt": {"f0": (0.9602, 0.9317, 0.8260), "tint": (0.9501, 0.9461, 0.9352)},
-    "Ti": {"f0": (0.4432, 0.3993, 0.3599), "tint": (0.8627, 0.9066, 0.9481)},
-    "Zn": {"f0": (0.8759, 0.8685, 0.8542), "tint": (0.8769, 0.9037, 0.9341)},
+    "Ag": _metal((0.9868, 0.9830, 0.9667), (0.9929, 0.9961, 1.0000)),
+    "Al": _metal((0.9157, 0.9226, 0.9236), (0.9090, 0.9365, 0.9596)),
+    "Au": _metal((1.0000, 0.7099, 0.3148), (0.9408, 0.9636, 0.9099)),
+    "Cr": _metal((0.5496, 0.5561, 0.5531), (0.7372, 0.7511, 0.8170)),
+    "Cu": _metal((1.0000, 0.6504, 0.5274), (0.9755, 0.9349, 0.9301)),
+    "Fe": _metal((0.8951, 0.8755, 0.8154), (0.8551, 0.8800, 0.8966)),
+    "Hg": _metal((0.7815, 0.7795, 0.7783), (0.8103, 0.8532, 0.9046)),
+    "Mg": _metal((0.8918, 0.8821, 0.8948), (0.8949, 0.9147, 0.9504)),
+    "Ni": _metal((0.7014, 0.6382, 0.5593), (0.8134, 0.8352, 0.8725)),
+    "Pd": _metal((0.7363, 0.7023, 0.6602), (0.8095, 0.8369, 0.8739)),
+    "Pt": _metal((0.9602, 0.9317, 0.8260), (0.9501, 0.9461, 0.9352)),
+    "Ti": _metal((0.4432, 0.3993, 0.3599), (0.8627, 0.9066, 0.9481)),
+    "Zn": _metal((0.8759, 0.8685, 0.8542), (0.8769, 0.9037, 0.9341)),
 }
 
 dispersion = {

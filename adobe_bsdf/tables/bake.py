@@ -6,6 +6,9 @@ Public API
 ``bake(spec, workers=2, progress=True)``             the whole table, with its metadata.
 ``check(spec, table, n_nodes, seed, workers)``       re-bake random nodes at a higher
                                                      quadrature order and compare.
+``run(names, ..., out=None, in_place=False)``        the ``bake`` command: into ``out``
+                                                     (default ``user_folder()``), or over
+                                                     the shipped tables with ``in_place``.
 
 Nodes are cut into fixed blocks of ``BLOCK`` whatever the number of workers, so a table is
 bit-for-bit the same on any machine with the same NumPy/SciPy.
@@ -14,10 +17,12 @@ bit-for-bit the same on any machine with the same NumPy/SciPy.
 from __future__ import annotations
 
 import dataclasses
+import os
 import platform
 import time
 from concurrent.futures import ProcessPoolExecutor
 from datetime import datetime, timezone
+from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -28,7 +33,7 @@ from adobe_bsdf._version import __version__
 from adobe_bsdf.tables.catalog import SPECS
 from adobe_bsdf.tables.table import Table, TableSpec
 
-__all__ = ["BLOCK", "CheckResult", "bake", "check", "compute"]
+__all__ = ["BLOCK", "CheckResult", "bake", "check", "compute", "run", "user_folder"]
 
 #: nodes per task
 BLOCK = 32
@@ -120,35 +125,72 @@ def _ordered(names):
     return [n for n in SPECS if n in wanted]  # SPECS lists parents before children
 
 
+def user_folder() -> Path:
+    """Where ``bake`` writes by default: ``$XDG_CACHE_HOME/adobe_bsdf/tables`` (``~/.cache``
+    when ``XDG_CACHE_HOME`` is unset), never the shipped tables."""
+    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(cache) / "adobe_bsdf" / "tables"
+
+
 def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=2, resolution=None,
-        out=None) -> int:
+        out=None, in_place=False) -> int:
     """The ``bake`` command: bake (or with ``do_check`` verify) tables; returns the number of
-    failed checks."""
-    from pathlib import Path
+    failed checks.
 
+    Parameters
+    ----------
+    names : sequence of str
+        Tables to bake (default: all); the tables derived from them are re-derived.
+    do_check : bool
+        Re-bake ``n_nodes`` random nodes (seeded by ``seed``) of the tables in ``out`` (default:
+        the shipped ones) and compare; nothing is written.
+    workers : int
+        Worker processes.
+    resolution : int, optional
+        Nodes per axis instead of the declared ones (not with ``in_place``).
+    out : str or Path, optional
+        Folder to write to (default ``user_folder()``).
+    in_place : bool
+        Write over the shipped tables that the library reads (``store.data_dir()``).
+    """
     from adobe_bsdf.tables.store import data_dir, spec
-    from adobe_bsdf.tables.table import load, save
+    from adobe_bsdf.tables.table import TableError, load, save
 
-    names = list(names) or None
-    for name in names or []:
+    for name in names:
         spec(name)  # unknown names raise before any work
-    if resolution and out is None:
-        raise ValueError("--resolution writes tables that differ from the declarations; "
-                         "give --out DIR (not the shipped folder)")
-    folder = Path(out) if out else data_dir()
-    folder.mkdir(parents=True, exist_ok=True)
+    if in_place and (out is not None or resolution):
+        raise ValueError("in_place writes the shipped tables: it takes neither out nor "
+                         "resolution")
+    shipped = data_dir()
+    if do_check:
+        folder = Path(out) if out is not None else shipped
+    else:
+        folder = shipped if in_place else Path(out) if out is not None else user_folder()
+        folder.mkdir(parents=True, exist_ok=True)
+        print(f"baking into {folder}" + ("" if in_place else
+              f" (the library reads the shipped tables in {shipped}; --in-place replaces "
+              "them)"), flush=True)
     failures = 0
     baked = {}
-    for name in _ordered(names or list(SPECS)):
+
+    def parent_of(s):
+        """The baked parent of derived table ``s``: from this run, else from ``folder``, else
+        (declared resolution only) the shipped one."""
+        name = s.depends[0]
+        if name in baked:
+            return baked[name]
+        declared = spec(name) if not resolution else _resized(name, resolution)
+        for where in (folder, None if resolution else shipped):
+            if where is not None and (where / f"{name}.npz").exists():
+                return load(declared, where / f"{name}.npz")
+        raise TableError(f"table {s.name} is derived from {name}, which is not in {folder}: "
+                         f"bake {name} too")
+
+    for name in _ordered(list(names) or list(SPECS)):
         s = spec(name)
         if resolution:
-            s = dataclasses.replace(s, axes=tuple(dataclasses.replace(a, n=resolution)
-                                                  for a in s.axes))
-        parent = None
-        if s.depends:
-            parent = baked.get(s.depends[0]) or load(spec(s.depends[0]) if not resolution
-                                                     else _resized(s.depends[0], resolution),
-                                                     folder / f"{s.depends[0]}.npz")
+            s = _resized(name, resolution)
+        parent = parent_of(s) if s.depends else None
         if do_check:
             table = load(s, folder / f"{name}.npz")
             r = check(s, table, n_nodes, seed, workers, parent=parent)

@@ -45,5 +45,6 @@ def get(name: str) -> Table:
     for parent in table.spec.depends:
         if table.meta.get("parent_hash") != get(parent).meta["content_hash"]:
             raise TableError(f"table file {path(name)} was derived from another version of "
-                             f"{parent}; re-bake it with `python -m adobe_bsdf bake {name}`")
+                             f"{parent}; re-bake it with "
+                             f"`python -m adobe_bsdf bake {name} --in-place`")
     return table

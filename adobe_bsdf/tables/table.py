@@ -6,8 +6,10 @@ Public API
 ``TableSpec``   the declaration of a table: name, axes, output channels and node function.
 ``Table``       a baked table (node values and error estimates) with vectorised multilinear
                 interpolation in the axes' parameters, ``Table(*coords) -> (..., n_outputs)``.
-``TableError``  a missing, corrupt or mismatched table file (a ``ValueError``).
-``save``, ``load``  ``.npz`` files with metadata and a content hash checked on load.
+``TableError``  a missing, corrupt or mismatched table file, or a table with a non-finite
+                node (a ``ValueError``).
+``save``, ``load``  ``.npz`` files with metadata and a content hash checked on load; both
+                reject non-finite values and errors, naming the file and the node.
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ __all__ = ["Axis", "TableSpec", "Table", "TableError", "save", "load", "PARAMETE
 
 
 class TableError(ValueError):
-    """A table file that is missing, corrupt, or baked for another declaration."""
+    """A table file that is missing, corrupt, or baked for another declaration, or a table
+    whose values or errors are not all finite."""
 
 
 def _ior_to(x):
@@ -114,24 +117,39 @@ class Axis:
         x[0], x[-1] = self.lo, self.hi
         return x
 
-    def locate(self, x) -> tuple[np.ndarray, np.ndarray]:
-        """Cell index ``i`` in [0, n - 2] and fraction in [0, 1] of physical values ``x``."""
-        x = _params.real(self.name, x, self.lo, self.hi)
+    def check(self, x, table: str | None = None) -> np.ndarray:
+        """``x`` as float64, checked to lie in [lo, hi]; otherwise ``ValueError`` naming the
+        table ``table`` (where given), this coordinate, the value, the range and what to do."""
+        x = _params.as_float(self.name, x)
+        if x.size and x.min() >= self.lo and x.max() <= self.hi:  # NaN fails both
+            return x
+        bad = ~((x >= self.lo) & (x <= self.hi))
+        if np.any(bad):
+            where = "a table" if table is None else f"table {table}"
+            raise ValueError(f"{where}: coordinate {self.name} = {x[bad].flat[0].item()!r} is "
+                             f"outside the table's range [{self.lo:g}, {self.hi:g}]; where "
+                             "the tables do not reach, use albedo method 'quadrature' or 'mc'")
+        return x
+
+    def locate(self, x, table: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Cell index ``i`` in [0, n - 2] and fraction in [0, 1] of physical values ``x``
+        (``check``-ed; ``table`` names the table in its message)."""
+        x = self.check(x, table)
         to = self._maps()[0]
         p0, p1 = to(self.lo), to(self.hi)
         t = (to(x) - p0) / (p1 - p0) * (self.n - 1)
         i = np.clip(np.floor(t), 0, self.n - 2).astype(np.intp)
         return i, t - i
 
-    def stencil(self, x) -> tuple[np.ndarray, np.ndarray]:
+    def stencil(self, x, table: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Node indices and weights ``(..., k)`` of the interpolant at ``x`` (k = 2 or 4)."""
-        start, weights = self.stencil_parts(x)
+        start, weights = self.stencil_parts(x, table)
         return start[..., None] + np.arange(len(weights)), np.stack(weights, -1)
 
-    def stencil_parts(self, x) -> tuple[np.ndarray, list]:
+    def stencil_parts(self, x, table: str | None = None) -> tuple[np.ndarray, list]:
         """``(start, [w_0, ..., w_{k-1}])``: the interpolant at ``x`` is
         sum_j w_j f[start + j] (k = 2 linear, 4 cubic Catmull–Rom)."""
-        i, t = self.locate(x)
+        i, t = self.locate(x, table)
         if self.interpolation == "linear":
             return i, [1.0 - t, t]
         t2 = t * t
@@ -227,7 +245,7 @@ class Table:
 
     ``table(*coords)`` interpolates multilinearly in the axes' parameters (e.g. sqrt(mu)),
     broadcasting the coordinates; it returns ``(..., n_outputs)``. Coordinates outside an
-    axis's range raise ``ValueError`` naming the axis.
+    axis's range raise ``ValueError`` naming the table, the axis, the value and the range.
     """
 
     def __init__(self, spec: TableSpec, values: np.ndarray, errors: np.ndarray,
@@ -268,7 +286,11 @@ class Table:
             if axis.name not in fixed:
                 kept.insert(0, axis)
                 continue
-            index, weight = axis.stencil(_params.real(axis.name, fixed[axis.name]).item())
+            value = axis.check(fixed[axis.name], self.spec.name)
+            if value.ndim:
+                raise ValueError(f"table {self.spec.name}: {axis.name} has shape "
+                                 f"{value.shape}; allowed: a single value to fix the axis at")
+            index, weight = axis.stencil(value.item(), self.spec.name)
             full = np.zeros(axis.n)
             np.add.at(full, index, weight)
             values = np.tensordot(values, full, axes=([j], [0]))
@@ -284,7 +306,7 @@ class Table:
         if len(coords) != len(axes):
             raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
                              f"({', '.join(a.name for a in axes)}), got {len(coords)}")
-        stencils = [a.stencil_parts(c) for a, c in zip(axes, coords, strict=True)]
+        stencils = [a.stencil_parts(c, self.spec.name) for a, c in zip(axes, coords, strict=True)]
         strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
         base = None  # flat index of every lookup's first stencil node
         for (start, _), stride in zip(stencils, strides, strict=True):
@@ -316,8 +338,31 @@ def _digest(spec_json: str, values: np.ndarray, errors: np.ndarray) -> str:
     return h.hexdigest()
 
 
+def _first_non_finite(table: Table) -> str | None:
+    """Where ``table`` first holds a non-finite value or error: "its values hold nan at mu =
+    0.5 (node 3), ..., output E_R", or None if every node is finite."""
+    for label, data in (("values", table.values), ("errors", table.errors)):
+        finite = np.isfinite(data)
+        if finite.all():
+            continue
+        index = tuple(int(i) for i in np.argwhere(~finite)[0])
+        axes = table.spec.axes
+        at = ", ".join(f"{a.name} = {a.nodes()[i]:.6g} (node {i})"
+                       for a, i in zip(axes, index[:len(axes)], strict=True))
+        return (f"its {label} hold {float(data[index])!r} at {at}, output "
+                f"{table.spec.outputs[index[-1]]}")
+    return None
+
+
 def save(table: Table, path: Path) -> None:
-    """Write ``table`` to ``path`` (``.npz``): values, errors and JSON metadata with a hash."""
+    """Write ``table`` to ``path`` (``.npz``): values, errors and JSON metadata with a hash.
+
+    Every value and error must be finite: otherwise ``TableError`` naming the file and the
+    first bad node's coordinates, and nothing is written."""
+    bad = _first_non_finite(table)
+    if bad is not None:
+        raise TableError(f"table {table.spec.name} cannot be saved to {path}: {bad}; every "
+                         "node must be finite")
     spec_json = json.dumps(table.spec.describe(), sort_keys=True)
     meta = dict(table.meta)
     meta.update(spec=json.loads(spec_json),
@@ -328,22 +373,28 @@ def save(table: Table, path: Path) -> None:
 
 
 def load(spec: TableSpec, path: Path) -> Table:
-    """Read and verify ``path`` against ``spec``; raise ``TableError`` naming the file."""
+    """Read and verify ``path`` against ``spec``: declaration, content hash, shape and finite
+    nodes; raise ``TableError`` naming the file (and the first non-finite node)."""
     path = Path(path)
     if not path.is_file():
         raise TableError(f"table file {path} is missing; bake it with "
-                         f"`python -m adobe_bsdf bake {spec.name}`")
+                         f"`python -m adobe_bsdf bake {spec.name} --in-place`")
     try:
         with np.load(path, allow_pickle=False) as data:
             values, errors = data["values"], data["errors"]
             meta = json.loads(str(data["meta"]))
     except Exception as exc:  # zip, key or JSON errors: all mean a damaged file
         raise TableError(f"table file {path} cannot be read ({exc}); re-bake it with "
-                         f"`python -m adobe_bsdf bake {spec.name}`") from exc
+                         f"`python -m adobe_bsdf bake {spec.name} --in-place`") from exc
     spec_json = json.dumps(spec.describe(), sort_keys=True)
     if meta.get("spec") != json.loads(spec_json):
         raise TableError(f"table file {path} was baked for another declaration of "
                          f"{spec.name} (axes, outputs or quadrature differ); re-bake it")
     if meta.get("content_hash") != _digest(spec_json, values, errors):
         raise TableError(f"table file {path} is corrupt: its content hash does not match")
-    return Table(spec, values, errors, meta)
+    table = Table(spec, values, errors, meta)
+    bad = _first_non_finite(table)
+    if bad is not None:
+        raise TableError(f"table file {path} is unusable: {bad}; re-bake it with "
+                         f"`python -m adobe_bsdf bake {spec.name} --in-place`")
+    return table
