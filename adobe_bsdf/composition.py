@@ -180,7 +180,9 @@ class Sum(Lobe):
         return np.broadcast_shapes(wo.shape, wi.shape)[:-1]
 
     def _eval(self, wo, wi):
-        return saturated(self._total(self._terms("_eval", wo, wi), self._batch(wo, wi) + (3,)))
+        with np.errstate(over="ignore"):  # saturated values may add up beyond the range
+            return saturated(self._total(self._terms("_eval", wo, wi),
+                                         self._batch(wo, wi) + (3,)))
 
     def _pdf(self, wo, wi):
         return self._pdf_t(wo, wi, None)
@@ -203,7 +205,8 @@ class Sum(Lobe):
         for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
             fk, pk = c._eval_pdf_t(wo, wi, throughput)
             fk = fk if w is None else fk * w
-            f = fk if f is None else f + fk
+            with np.errstate(over="ignore"):  # saturated below
+                f = fk if f is None else f + fk
             pdf = P[k] * pk if pdf is None else pdf + P[k] * pk
         return saturated(f), pdf
 
@@ -365,8 +368,9 @@ class Layer(Lobe):
     # -- protocol ---------------------------------------------------------------------------
     def _eval(self, wo, wi):
         scaled, _ = self._scaled(wo)
-        return saturated(self.coverage[..., None] * self.top._eval(wo, wi)
-                         + self._weight(wo, wi, scaled) * self.base._eval(wo, wi))
+        with np.errstate(over="ignore"):  # saturated values may add up beyond the range
+            return saturated(self.coverage[..., None] * self.top._eval(wo, wi)
+                             + self._weight(wo, wi, scaled) * self.base._eval(wo, wi))
 
     def _pdf(self, wo, wi):
         return self._pdf_t(wo, wi, None)
@@ -386,7 +390,8 @@ class Layer(Lobe):
         P = self._probabilities(wo, scaled, E_top)
         f_top, p_top = self.top._eval_pdf_t(wo, wi, throughput)
         f_base, p_base = self.base._eval_pdf_t(wo, wi, throughput)
-        f = self.coverage[..., None] * f_top + self._weight(wo, wi, scaled) * f_base
+        with np.errstate(over="ignore"):  # saturated below
+            f = self.coverage[..., None] * f_top + self._weight(wo, wi, scaled) * f_base
         return saturated(f), P[0] * p_top + P[1] * p_base
 
     def _sample(self, wo, u):

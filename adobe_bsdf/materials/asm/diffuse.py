@@ -108,7 +108,9 @@ class ASMDiffuse(Separable):
                                    self.reflectance.shape[:-1])
 
     def _X(self, w):
-        return 1.0 - _lobe_integral(self.roughness, self.ior, w)[0]
+        """1 - L(mu), at least 0: the interpolated L can overshoot 1 by ~1e-8 at small
+        roughness, which would make the diffuse term negative."""
+        return np.maximum(1.0 - _lobe_integral(self.roughness, self.ior, w)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         return self._scale
@@ -117,7 +119,7 @@ class ASMDiffuse(Separable):
         """rho (1 - L(mu_o)), exact for the tabulated L."""
         L, error = _lobe_integral(self.roughness, self.ior, wo, with_error)
         up = (wo[..., 2] > 0.0)[..., None]
-        return (np.where(up, self.reflectance * (1.0 - L)[..., None], 0.0),
+        return (np.where(up, self.reflectance * np.maximum(1.0 - L, 0.0)[..., None], 0.0),
                 None if error is None else self.reflectance * error[..., None])
 
     def _sampling_weight(self, wo):
