@@ -297,8 +297,6 @@ class Lobe(_params.Validated):
         n_samples = _params.integer("n_samples", n_samples, 2)
         return_error = _params.flag("return_error", return_error)
         rng = _params.seed("rng", rng)
-        if method == "mc":
-            rng = np.random.default_rng(rng)  # the Generator _mc_albedo draws from
         if method == "table":
             # chunked and threaded as eval (a lookup per element)
             fn = (partial(self._albedo_table, with_error=True) if return_error
@@ -310,10 +308,8 @@ class Lobe(_params.Validated):
                             f"the {type(self).__name__}'s parameters")
         if method == "quadrature":
             value, error = self._albedo_quadrature(wo, tol)
-        elif method == "mc":
-            value, error = _mc_albedo(self, wo, n_samples, rng)
         else:
-            raise ValueError(f"method = {method!r} is not one of {ALBEDO_METHODS}")
+            value, error = _mc_albedo(self, wo, n_samples, np.random.default_rng(rng))
         return (value, error) if return_error else value
 
     # -- batched execution -----------------------------------------------------------------
@@ -456,10 +452,9 @@ def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
     The samples are drawn in blocks of about ``config`` ``chunk_size`` pairs (the same
     uniforms, in the same order, as one draw of all of them), and the mean and variance are
     combined block by block [Chan1983], so memory stays bounded whatever ``n_samples`` and the
-    number of directions.
+    number of directions. ``n_samples`` (>= 2) and the Generator ``rng`` are validated by
+    ``albedo``.
     """
-    n_samples = _params.integer("n_samples", n_samples, 2)
-    rng = np.random.default_rng(rng)
     batch = wo.shape[:-1]
     step = max(1, config.get_options().chunk_size // max(1, math.prod(batch)))
     count, mean, m2 = 0, 0.0, 0.0
