@@ -120,12 +120,13 @@ def _dielectric_k(c, k, eta2) -> np.ndarray:
     den_s *= den_s
     den_p = eta2 * c + eta_cos_t  # eta (eta c + c_t)
     den_p *= den_p
-    with np.errstate(divide="ignore", invalid="ignore"):  # masked below
+    # masked below: under total internal reflection at a grazing c the denominators vanish
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         r_s = k / den_s
         r_p = k * (c2 * (eta2 + 1.0) - 1.0) / den_p
-    R = r_s * r_s
-    R += r_p * r_p
-    R *= 0.5
+        R = r_s * r_s
+        R += r_p * r_p
+        R *= 0.5
     if scalar:
         return R if tir is None else np.where(tir, 1.0, R)
     return np.where(k == 0.0, 0.0, np.where(tir, 1.0, R))

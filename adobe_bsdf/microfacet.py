@@ -47,8 +47,9 @@ SMALL_LENGTH2 = 2.0**-400
 
 #: the largest finite float64: values beyond it saturate there (``saturated``)
 FLOAT_MAX = float(np.finfo(np.float64).max)
-#: 1 / FLOAT_MAX: denominators below it would overflow a reciprocal
-DEN_MIN = 1.0 / FLOAT_MAX
+#: the smallest denominator whose reciprocal is finite (1 / FLOAT_MAX rounds down, and its
+#: reciprocal overflows): denominators are clamped to it, so 1 / den <= FLOAT_MAX
+DEN_MIN = float(np.nextafter(1.0 / FLOAT_MAX, 1.0))
 
 
 def saturated(x):

@@ -6,6 +6,8 @@
   (``tables.ggx_energy`` at order 28), max and RMS, over the whole domain and over the
   region mu >= 0.01, alpha >= 0.0025 (roughness >= 0.05);
 * the error of the anisotropic lookup alpha = sqrt(alpha_x alpha_y) (conductor, F = 1);
+* the band of nearly index-matched, grazing queries (``energy_lookup.near_matched``): the raw
+  tables there, the table path (which integrates there) and the tables just outside it;
 * table sizes, bake times (from the files' metadata) and the time to load every table;
 * ``albedo(method="table")`` against ``method="quadrature"`` on the same random queries: time
   per query and error against the node integrator.
@@ -20,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from adobe_bsdf import lobes, tables
+from adobe_bsdf.lobes import energy_lookup as near
 from adobe_bsdf.tables import ggx_energy
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
@@ -120,6 +123,49 @@ def speed_rows(n_table, n_quad, rng):
     return rows
 
 
+def _band_points(rng, n, inside=True):
+    """(mu, alpha, eps) log-uniform in the band (``inside``) or in the strips just outside it
+    (cosine or |eta - 1| up to 10^0.5 times the band's bound, the other in the band)."""
+    eps = 10.0 ** rng.uniform(-12, np.log10(near.MATCHED_ETA), n)
+    mu = 10.0 ** rng.uniform(-12, np.log10(near.MATCHED_MU), n)
+    if not inside:
+        edge = rng.random(n) < 0.5
+        mu = np.where(edge, near.MATCHED_MU * 10.0 ** rng.uniform(0, 0.5, n), mu)
+        eps = np.where(edge, eps, near.MATCHED_ETA * 10.0 ** rng.uniform(0, 0.5, n))
+    alpha = 10.0 ** rng.uniform(-3, np.log10(2.0), n)
+    return mu, alpha, eps
+
+
+def band_rows(rng, n):
+    """Per side: max |error| of the raw tables in the band, of the table path there (E_R + E_T
+    and E_R alone), of the tables just outside it, and the band's time per query."""
+    rows = []
+    for side, name in ((1, "ggx_dielectric_outside"), (-1, "ggx_dielectric_inside")):
+        mu, alpha, eps = _band_points(rng, n)
+        eta = 1.0 + eps if side > 0 else 1.0 / (1.0 + eps)
+        ref = ggx_energy(mu, alpha, eta, order=ORDER)
+        raw = tables.get(name)(mu, alpha, 1.0 + eps)
+        wo = np.stack([np.sqrt(1.0 - mu * mu), np.zeros(n), mu], -1)
+        keep = alpha * eps >= 2e-12  # pass-through lobes have no band
+        start = time.perf_counter()
+        total = np.array([lobes.Dielectric(e, a).albedo(w, method="table")[0]
+                          for e, a, w in zip(eta[keep], alpha[keep], wo[keep], strict=True)])
+        seconds = (time.perf_counter() - start) / keep.sum()
+        reflected = np.array([lobes.DielectricReflection(e, a).albedo(w, method="table")[0]
+                              for e, a, w in zip(eta[keep], alpha[keep], wo[keep],
+                                                 strict=True)])
+        mu_o, alpha_o, eps_o = _band_points(rng, n, inside=False)
+        ref_o = ggx_energy(mu_o, alpha_o, 1.0 + eps_o if side > 0 else 1.0 / (1.0 + eps_o),
+                           order=ORDER)
+        out = tables.get(name)(mu_o, alpha_o, 1.0 + eps_o).sum(-1)
+        rows.append((name, np.abs(raw.sum(-1) - ref.reflection - ref.transmission).max(),
+                     np.abs(raw[:, 0] - ref.reflection).max(),
+                     np.abs(total - (ref.reflection + ref.transmission)[keep]).max(),
+                     np.abs(reflected - ref.reflection[keep]).max(),
+                     np.abs(out - ref_o.reflection - ref_o.transmission).max(), seconds))
+    return rows
+
+
 def _dielectric_reference(mu, alpha, eta, side):
     rel = np.where(side > 0, eta, 1.0 / eta)
     e = ggx_energy(mu, alpha, rel, order=ORDER)
@@ -131,6 +177,8 @@ def main(argv=None):
     parser.add_argument("--queries", type=int, default=10_000)
     parser.add_argument("--quadrature-queries", type=int, default=200)
     parser.add_argument("--points", type=int, default=4000, help="off-node points per table")
+    parser.add_argument("--band-points", type=int, default=300,
+                        help="points per side in the nearly index-matched band")
     args = parser.parse_args(argv)
     rng = np.random.default_rng(2026)
 
@@ -171,6 +219,21 @@ def main(argv=None):
             "|---|---|---|---|"]
     for row in anisotropy_rows(rng):
         out.append("| {} | {} | {:.1e} | {:.1e} |".format(*row))
+    out += ["", "## Nearly index-matched, grazing: the band integrated directly", "",
+            f"Where max(eta, 1/eta) - 1 < {near.MATCHED_ETA:g} and cos theta_o < "
+            f"{near.MATCHED_MU:g} a rough interface's energy depends on mu / |eta - 1| and "
+            "mu / sqrt|eta - 1| (docs/conventions.md), which the tables' grid does not resolve: "
+            "the table paths integrate there (``lobes.energy_lookup.near_matched``). "
+            f"{args.band_points} points per side, log-uniform in mu in [1e-12, "
+            f"{near.MATCHED_MU:g}], |eta - 1| in [1e-12, {near.MATCHED_ETA:g}], alpha in "
+            f"[1e-3, 2]; *outside*: as many points with the cosine or |eta - 1| up to 10^0.5 "
+            f"times beyond the band. Reference: the node integrator at order {ORDER}.", "",
+            "| table | raw table, E_R + E_T | raw table, E_R | table path, E_R + E_T | "
+            "table path, E_R | tables just outside | time per band query |",
+            "|---|---|---|---|---|---|---|"]
+    for name, *errors, seconds in band_rows(rng, args.band_points):
+        out.append(f"| `{name}` | " + " | ".join(f"{e:.1e}" for e in errors)
+                   + f" | {seconds * 1e3:.1f} ms |")
     (DOCS / "tables.md").write_text("\n".join(out) + "\n", encoding="utf-8")
 
     acc = ["<!-- written by `python -m benchmarks.tables_report`; do not edit by hand -->", "",

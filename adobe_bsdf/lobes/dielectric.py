@@ -9,36 +9,19 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
-from adobe_bsdf.lobes.energy_lookup import dielectric_energy, grey
+from adobe_bsdf.lobes.energy_lookup import (
+    MIN_TRANSMISSION_WIDTH,
+    dielectric_energy,
+    grey,
+    passes_through,
+)
 from adobe_bsdf.microfacet import distribution, saturated
 
 __all__ = ["Dielectric", "interface_energy_scale", "passes_through", "MIN_TRANSMISSION_WIDTH"]
 
-#: narrowest transmitted lobe (radians) kept as a lobe: a rough interface whose refraction
-#: is narrower passes light straight through (``passes_through``, docs/conventions.md)
-MIN_TRANSMISSION_WIDTH = 1e-12
-
-
 def _eta(eta) -> np.ndarray:
     """A relative index n_below / n_above, validated: (0, inf)."""
     return _params.real("eta", eta, 0.0, np.inf, lo_open=True)
-
-
-def passes_through(eta, microfacets) -> np.ndarray:
-    """Where a dielectric of index ``eta`` over ``microfacets`` is a pass-through (a delta
-    from ``wo`` to ``-wo``): ``eta == 1`` (no interface), or a rough interface whose
-    transmitted lobe, about alpha_max |eta - 1| radians wide in its widest direction, is
-    narrower than ``MIN_TRANSMISSION_WIDTH``.
-
-    Such a lobe lies within 1e4 roundings of a float64 direction (~1e-16) of ``-wo`` in every
-    direction; at |eta - 1| of a few ulps the half vector of a sampled pair cancels to 0 and
-    ``eval`` overflows. The collapse drops the reflection, F <= ((eta - 1) / 2)^2 <=
-    (MIN_TRANSMISSION_WIDTH / (2 ALPHA_MIN))^2 = 2.5e-9 of the energy, and the lobe's width;
-    the transmitted energy of the rough model tends to the pass-through's linearly in
-    |eta - 1| (measured in tests/test_pass_through.py).
-    """
-    narrow = microfacets.alpha_max * np.abs(eta - 1.0) < MIN_TRANSMISSION_WIDTH
-    return (eta == 1.0) | (~microfacets.smooth & narrow)
 
 
 def _mirror_z(w, s):

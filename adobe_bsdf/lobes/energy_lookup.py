@@ -1,5 +1,12 @@
 """Table lookups of single-scattering energy for lobes: the tables' isotropic alpha, the F = 1
-conductor albedo and the dielectric's E_R + E_T from either side (``adobe_bsdf.tables``)."""
+conductor albedo and the dielectric's E_R + E_T from either side (``adobe_bsdf.tables``).
+
+Where a dielectric is nearly index-matched and the view grazing (``near_matched``) the energy
+has a boundary layer no tensor-product table resolves: it depends on mu / |eta - 1| and on
+mu / sqrt|eta - 1|, and the tables miss it by up to 0.5. There the energy is integrated
+directly by the tables' own node quadrature (``tables.energy.ggx_energy``, about 17 ms per
+direction), so every table path stays within the tables' stated error (docs/tables.md).
+"""
 
 from __future__ import annotations
 
@@ -8,10 +15,27 @@ import functools
 import numpy as np
 
 from adobe_bsdf import tables
+from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.tables.energy import ggx_energy
 
 __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "dielectric_energy", "sides",
-           "checked_ratio"]
+           "checked_ratio", "reflected_energy", "near_matched", "passes_through",
+           "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU"]
+
+#: narrowest transmitted lobe (radians) kept as a lobe: a rough interface whose refraction
+#: is narrower passes light straight through (``passes_through``, docs/conventions.md)
+MIN_TRANSMISSION_WIDTH = 1e-12
+#: below |eta - 1| = MATCHED_ETA (index ratio) and cos theta_o = MATCHED_MU the dielectric
+#: energy is integrated, not looked up (``near_matched``; the bound measured in
+#: tests/test_near_matched.py)
+MATCHED_ETA = 1e-2
+MATCHED_MU = 0.05
+#: Gauss-Legendre order of the direct integration: 7.5e-6 from order 20 over the region
+#: (400 random points), ~5 ms per direction (~8 ms with the error estimate, order 8)
+_ORDER = 12
+#: below this alpha the band's energy is the smooth interface's (``_integrated``)
+_ALPHA_SMOOTH = 1e-12
 
 
 #: the GGX energy tables with an alpha and with an eta axis, for messages where the lookup's
@@ -50,6 +74,57 @@ def table_alpha(distribution: GGX, table: str | None = None) -> np.ndarray:
                          f"{first(alpha)!r}, outside [0, {tables.ALPHA_MAX:g}], the range of "
                          f"{_tables(table, _ALPHA_TABLES)}: {_INSTEAD}")
     return alpha
+
+
+def passes_through(eta, microfacets) -> np.ndarray:
+    """Where a dielectric of index ``eta`` over ``microfacets`` is a pass-through (a delta
+    from ``wo`` to ``-wo``): ``eta == 1`` (no interface), or a rough interface whose
+    transmitted lobe, about alpha_max |eta - 1| radians wide in its widest direction, is
+    narrower than ``MIN_TRANSMISSION_WIDTH``.
+
+    Such a lobe lies within 1e4 roundings of a float64 direction (~1e-16) of ``-wo`` in every
+    direction; at |eta - 1| of a few ulps the half vector of a sampled pair cancels to 0 and
+    ``eval`` overflows. The collapse drops the reflection, F <= ((eta - 1) / 2)^2 <=
+    (MIN_TRANSMISSION_WIDTH / (2 ALPHA_MIN))^2 = 2.5e-9 of the energy, and the lobe's width;
+    the transmitted energy of the rough model tends to the pass-through's linearly in
+    |eta - 1| (measured in tests/test_pass_through.py).
+    """
+    narrow = microfacets.alpha_max * np.abs(eta - 1.0) < MIN_TRANSMISSION_WIDTH
+    return (eta == 1.0) | (~microfacets.smooth & narrow)
+
+
+def near_matched(ratio, mu) -> np.ndarray:
+    """Where the dielectric tables are not used: index ratio max(eta, 1/eta) within
+    ``MATCHED_ETA`` of 1 and 0 < cos theta_o < ``MATCHED_MU``.
+
+    There a rough interface's energy has boundary layers in the (mu, eta) corner: refraction
+    through a facet turns a grazing ``wo`` by ~|eta - 1|, so whether the refracted direction
+    clears the horizon depends on mu / |eta - 1|, and Fresnel reflection at facets seen under
+    cos < sqrt(2 |eta - 1|) on mu / sqrt|eta - 1|. The energy at cos 1e-8 goes from 0.50
+    (|eta - 1| = 1e-12) to 0.92 (1e-7) to 1.00 (1e-3) for alpha = 0.3; the tables, whose first
+    eta node is 1 + 9e-5, returned 0.50 throughout.
+    """
+    return (ratio - 1.0 < MATCHED_ETA) & (mu > 0.0) & (mu < MATCHED_MU)
+
+
+def _integrated(mask, mu, alpha, eta_seen, with_error):
+    """``(E_R, E_T, error_R, error_T)`` at the elements ``mask`` of the broadcast inputs:
+    ``ggx_energy`` where rough (errors 0 unless ``with_error``), the smooth interface's
+    Fresnel reflectance in closed form where alpha < ``_ALPHA_SMOOTH`` (the rough energy
+    differs from it only at cosines within ~10 alpha of 0, and the quadrature's change of
+    variable loses accuracy below it)."""
+    arrays = np.broadcast_arrays(mu, alpha, eta_seen, mask)
+    # each distinct (mu, alpha, eta) once: a Monte-Carlo batch repeats its wo
+    rows, inverse = np.unique(np.stack([a[arrays[-1]] for a in arrays[:-1]], -1), axis=0,
+                              return_inverse=True)
+    mu, alpha, eta_seen = rows.T
+    rough = alpha >= _ALPHA_SMOOTH
+    out = np.zeros((4,) + mu.shape)
+    e = ggx_energy(mu[rough], alpha[rough], eta_seen[rough], _ORDER, estimate=with_error)
+    out[:, rough] = e
+    F = _dielectric(mu[~rough], eta_seen[~rough])
+    out[0, ~rough], out[1, ~rough] = F, 1.0 - F
+    return tuple(out[:, inverse.ravel()])
 
 
 def grey(value):
@@ -127,7 +202,7 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
     """``(E, error)``: E_R + E_T of a rough interface seen from ``wo`` (either side), 1 where
     the interface is smooth or index-matched, and the carried node error (None unless
     ``with_error``). Each side's table is looked up only for the directions on that side
-    (where the parameters are scalars)."""
+    (where the parameters are scalars); ``near_matched`` directions are integrated."""
     names = "ggx_dielectric_outside and ggx_dielectric_inside"
     alpha = table_alpha(distribution, names)
     ratio = checked_ratio(eta, names)
@@ -150,7 +225,41 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
             E, err = lookup(name, mu, with_error, alpha=alpha, eta=ratio)
             total = np.where(here, E, total)
             error = _where(here, err, error)
+    # the pass-through keeps the tables' eta = 1 limit, the lobe's own energy there
+    near = np.broadcast_to(near_matched(ratio, mu) & ~distribution.smooth
+                           & ~passes_through(eta, distribution), shape)
+    if np.any(near):
+        E_R, E_T, err_R, err_T = _integrated(near, mu, alpha, np.where(on_light, ratio,
+                                                                         1.0 / ratio), with_error)
+        total[near] = E_R + E_T
+        if with_error:
+            error[near] = err_R + err_T
     # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
     grazing = wo[..., 2] == 0.0
     total = np.where(exact, 1.0, np.where(grazing, 0.0, total))
     return total, None if error is None else np.where(exact | grazing, 0.0, error)
+
+
+def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,
+                     with_error: bool = False, where=True):
+    """``(E_R, error)`` of the GGX reflection of a dielectric interface at cosine ``mu`` > 0:
+    the reflection channel of table ``name`` at ``table_axes`` (the table's own coordinates),
+    integrated where ``near_matched(ratio, mu)`` and ``where`` (``ratio`` the index ratio,
+    ``eta_seen`` the relative index seen from ``wo``, ``alpha`` the GGX alpha, 0 smooth)."""
+    table = _fixed(name, **{k: float(v) for k, v in table_axes.items()}) if all(
+        np.ndim(v) == 0 for v in table_axes.values()) else None
+    mu = np.minimum(mu, 1.0)
+    coords = (mu,) if table is not None else (mu, *table_axes.values())
+    table = table if table is not None else tables.get(name)
+    E = np.maximum(table(*coords)[..., 0], 0.0)  # interpolation overshoot below 0 near eta = 1
+    error = table.error(*coords)[..., 0] if with_error else None
+    near = near_matched(ratio, mu) & where
+    if np.any(near):
+        shape = np.broadcast_shapes(E.shape, near.shape)
+        E, near = np.array(np.broadcast_to(E, shape)), np.broadcast_to(near, shape)
+        E_R, _, err_R, _ = _integrated(near, mu, alpha, eta_seen, with_error)
+        E[near] = E_R
+        if with_error:
+            error = np.array(np.broadcast_to(error, shape))
+            error[near] = err_R
+    return E, error

@@ -149,8 +149,9 @@ class Sheen(SupportLobe):
         return DG if up is None else np.where(up, DG, 0.0)
 
     def _p(self, wo, up, D):
-        """pdf = D(h) / (4 sigma(wo)), 0 outside ``up``."""
-        pdf = D / (4.0 * self._sigma(wo))
+        """pdf = D(h) / (4 sigma(wo)), 0 outside ``up``; saturated at the largest float (a
+        subnormal roughness's D ~ 1 / (pi r) exceeds it)."""
+        pdf = saturated(D / (4.0 * self._sigma(wo)))
         return pdf if up is None else np.where(up, pdf, 0.0)
 
     def _eval_kernel(self, wo, wi, up):

@@ -9,7 +9,7 @@ from adobe_bsdf import _params, tables
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.composition import Sum
 from adobe_bsdf.fresnel import ExactDielectric
-from adobe_bsdf.lobes.energy_lookup import grey, lookup
+from adobe_bsdf.lobes.energy_lookup import grey, reflected_energy
 from adobe_bsdf.lobes.reflection import MicrofacetReflection
 from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.materials.asm.mapping import alphas, effective_roughness
@@ -30,8 +30,9 @@ def _lobe_integral(roughness, ior, w, with_error=False):
     """``(L, error)``: L(mu) of [Kutz2021, §1.1 eq. 1] (0 below the surface) and its node error
     (None unless ``with_error``)."""
     up = w[..., 2] > 0.0
-    L, error = lookup("asm_diffuse_L", np.maximum(w[..., 2], 0.0), with_error,
-                      roughness=roughness, ior=ior)
+    L, error = reflected_energy("asm_diffuse_L", np.maximum(w[..., 2], 0.0),
+                                roughness * roughness, ior, {"roughness": roughness, "ior": ior},
+                                ior, with_error)
     return np.where(up, L, 0.0), None if error is None else np.where(up, error, 0.0)
 
 
