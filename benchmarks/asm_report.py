@@ -135,7 +135,7 @@ def markdown_anisotropic_energy(rows):
            f"{ANISO_SAMPLES} samples per direction (± one standard error) over cos θ_o ∈ "
            f"{{{cosines}}} and azimuths 0, π/4, π/2 from the rough axis. The Kulla–Conty "
            "tables are isotropic, looked up at α = √(α_x α_y): anisotropic lobes lose energy "
-           "and, at grazing angles along the rough axis, gain it. Exact anisotropic "
+           "and, at grazing angles (along either axis), gain it. Exact anisotropic "
            "compensation is not implemented yet.", "",
            "| material | anisotropy_level | roughness | worst loss | worst gain | gain at "
            "(cos θ_o, φ_o) |", "|---|---|---|---|---|---|"]
