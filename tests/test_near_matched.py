@@ -62,8 +62,9 @@ def test_band_table_paths_agree_with_monte_carlo(log_eps, log_mu, log_alpha, den
 
 
 def test_outside_the_band_the_tables_hold():
-    """Just outside the band the interpolated tables are within their stated error of the
-    node quadrature at full order (docs/tables.md: E_R + E_T within 2.3e-3)."""
+    """Just outside the band the interpolated tables are back at their ordinary
+    interpolation error, a few 1e-3 (docs/tables.md, "max (all)" of E_R + E_T: 4.4e-3 from
+    the dense side), where inside it they miss by up to 0.5."""
     rng = np.random.default_rng(5)
     n = 120
     eps = np.concatenate([10.0 ** rng.uniform(-12, np.log10(MATCHED_ETA), n),
@@ -76,7 +77,7 @@ def test_outside_the_band_the_tables_hold():
                       ("ggx_dielectric_inside", 1.0 / (1.0 + eps))):
         e = ggx_energy(mu, alpha, eta, order=20, estimate=False)
         table = tables.get(name)(mu, alpha, 1.0 + eps).sum(-1)
-        assert np.abs(table - e.reflection - e.transmission).max() < 2.3e-3
+        assert np.abs(table - e.reflection - e.transmission).max() < 4.4e-3
 
 
 @pytest.mark.parametrize("kwargs", [
