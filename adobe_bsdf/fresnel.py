@@ -34,6 +34,8 @@ References
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from adobe_bsdf import _params
@@ -326,6 +328,19 @@ class Fresnel(_params.Validated):
         raise NotImplementedError
 
 
+def _callable_repr(function) -> str:
+    """A repr of a callable without memory addresses: ``module.name`` for a function,
+    ``name(*args, **kwargs)`` for a ``functools.partial`` (stable across processes)."""
+    if isinstance(function, functools.partial):
+        args = [repr(a) for a in function.args]
+        args += [f"{k}={v!r}" for k, v in function.keywords.items()]
+        return f"partial({_callable_repr(function.func)}, {', '.join(args)})"
+    name = getattr(function, "__qualname__", None)
+    if name is None:  # a callable object: its own repr
+        return repr(function)
+    return f"{function.__module__}.{name}"  # lambdas and local functions included
+
+
 class FresnelFunction(Fresnel):
     """A plain callable ``function(cos_theta) -> reflectance`` as a ``Fresnel`` (its
     parameters, and so their shape, are unknown)."""
@@ -337,7 +352,7 @@ class FresnelFunction(Fresnel):
         self.function = function
 
     def __repr__(self) -> str:
-        return repr(self.function)
+        return _callable_repr(self.function)
 
     def __call__(self, cos_theta) -> np.ndarray:
         return self.function(cos_theta)

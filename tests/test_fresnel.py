@@ -299,3 +299,14 @@ def test_gulbrandsen_broadcasting_and_measured_metal():
 def test_gulbrandsen_bad_input(call, args, name):
     with pytest.raises(ValueError, match=name):
         call(*args)
+
+
+def test_fresnel_function_repr_has_no_memory_address():
+    """Reprs name the callable (stable across processes, e.g. as pytest-xdist test ids)."""
+    import functools
+
+    from adobe_bsdf.fresnel import FresnelFunction, conductor
+
+    text = repr(FresnelFunction(functools.partial(conductor, eta=[0.2, 0.4, 1.4], k=3.0)))
+    assert text == "partial(adobe_bsdf.fresnel.conductor, eta=[0.2, 0.4, 1.4], k=3.0)"
+    assert "0x" not in repr(FresnelFunction(lambda c: c))
