@@ -4,8 +4,8 @@ conductor albedo and the dielectric's E_R + E_T from either side (``adobe_bsdf.t
 Where a dielectric is nearly index-matched and the view grazing (``near_matched``) the energy
 has a boundary layer no tensor-product table resolves: it depends on mu / |eta - 1| and on
 mu / sqrt|eta - 1|, and the tables miss it by up to 0.5. There the energy is integrated
-directly by the tables' own node quadrature (``tables.energy.ggx_energy``, about 17 ms per
-direction), so every table path stays within the tables' stated error (docs/tables.md).
+directly by the tables' own node quadrature (``tables.energy.ggx_energy``, about 5 ms per
+distinct direction), so every table path stays within the tables' stated error (docs/tables.md).
 """
 
 from __future__ import annotations
@@ -132,18 +132,21 @@ def grey(value):
     return None if value is None else np.broadcast_to(value[..., None], value.shape + (3,))
 
 
-def lookup(name: str, mu, with_error: bool = False, **params):
-    """``(value, error)`` of table ``name`` (summed over its output channels) at
-    ``mu`` and its other axes' ``params`` (in the table's axis order); error None unless
-    ``with_error``. Scalar ``params`` use the table fixed at them (``Table.fix``, cached):
-    the same interpolant at 4 gathers per lookup."""
+def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, **params):
+    """``(value, error)`` of table ``name`` (summed over its output channels, or output
+    ``channel`` alone) at ``mu`` and its other axes' ``params`` (in the table's axis order);
+    error None unless ``with_error``. Scalar ``params`` use the table fixed at them
+    (``Table.fix``, cached): the same interpolant at 4 gathers per lookup."""
     mu = np.minimum(mu, 1.0)  # |w| = 1 within rounding: a cosine may exceed 1 by an ulp
     if all(np.ndim(v) == 0 for v in params.values()):
         table, coords = _fixed(name, **{k: float(v) for k, v in params.items()}), (mu,)
     else:
         table, coords = tables.get(name), (mu, *params.values())
-    value = table(*coords).sum(-1)
-    return value, (table.error(*coords).sum(-1) if with_error else None)
+
+    def pick(data):
+        return data.sum(-1) if channel is None else data[..., channel]
+
+    return pick(table(*coords)), (pick(table.error(*coords)) if with_error else None)
 
 
 @functools.lru_cache(maxsize=512)
@@ -246,13 +249,8 @@ def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,
     the reflection channel of table ``name`` at ``table_axes`` (the table's own coordinates),
     integrated where ``near_matched(ratio, mu)`` and ``where`` (``ratio`` the index ratio,
     ``eta_seen`` the relative index seen from ``wo``, ``alpha`` the GGX alpha, 0 smooth)."""
-    table = _fixed(name, **{k: float(v) for k, v in table_axes.items()}) if all(
-        np.ndim(v) == 0 for v in table_axes.values()) else None
-    mu = np.minimum(mu, 1.0)
-    coords = (mu,) if table is not None else (mu, *table_axes.values())
-    table = table if table is not None else tables.get(name)
-    E = np.maximum(table(*coords)[..., 0], 0.0)  # interpolation overshoot below 0 near eta = 1
-    error = table.error(*coords)[..., 0] if with_error else None
+    E, error = lookup(name, mu, with_error, channel=0, **table_axes)
+    E = np.maximum(E, 0.0)  # interpolation overshoot below 0 near eta = 1
     near = near_matched(ratio, mu) & where
     if np.any(near):
         shape = np.broadcast_shapes(E.shape, near.shape)
