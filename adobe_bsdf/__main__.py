@@ -514,7 +514,11 @@ def _bake_epilog() -> str:
         lines.append(f"  {name.ljust(width)}  "
                      + textwrap.shorten(text, 96 - width, placeholder=" ..."))
     lines += ["", f"default folder (--out): {user_folder()}",
-              f"shipped tables, read by the library (--in-place): {data_dir()}"]
+              f"shipped tables, read by the library (--in-place): {data_dir()}", "",
+              *textwrap.wrap("Finished node blocks stay in <folder>/<name>.partial until the "
+                             "table is saved: after an interruption, the same command "
+                             "resumes. Dask (--scheduler, --dask-workers) is optional: "
+                             'pip install -e ".[dask]".', 88)]
     return "\n".join(lines)
 
 
@@ -564,8 +568,16 @@ def _parser(prog: str) -> argparse.ArgumentParser:
                         help="nodes per table for --check (default 16)")
     p_bake.add_argument("--seed", type=int, default=0, metavar="N",
                         help="seed of the --check nodes (default 0)")
-    p_bake.add_argument("--workers", type=_positive, default=2, metavar="N",
-                        help="worker processes (default 2)")
+    where = p_bake.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_positive, metavar="N",
+                       help="local worker processes (default: all cores, "
+                       f"{os.cpu_count() or 1} here)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run the node blocks on the Dask cluster of this scheduler, e.g. "
+                       "tcp://host:8786 (its workers need adobe_bsdf installed)")
+    where.add_argument("--dask-workers", type=_positive, metavar="N",
+                       help="run the node blocks on a local Dask cluster of N single-threaded "
+                       "worker processes, started and closed by the command")
     p_bake.add_argument("--resolution", type=_positive, metavar="N",
                         help="nodes per axis instead of the declared ones (not with "
                         "--in-place)")
@@ -574,7 +586,7 @@ def _parser(prog: str) -> argparse.ArgumentParser:
 
 def _bake(args, prog: str) -> int:
     from adobe_bsdf.tables import SPECS, TableError
-    from adobe_bsdf.tables.bake import run
+    from adobe_bsdf.tables.bake import BakeError, run
 
     def fail(message):
         print(f"{prog} bake: error: {message}", file=sys.stderr)
@@ -591,10 +603,13 @@ def _bake(args, prog: str) -> int:
                     "replace the shipped tables (give --out DIR or no folder)")
     try:
         failures = run(args.names, do_check=args.check, n_nodes=args.nodes, seed=args.seed,
-                       workers=args.workers, resolution=args.resolution, out=args.out,
-                       in_place=args.in_place)
-    except TableError as exc:  # a missing or mismatched table file: say which, no traceback
+                       workers=args.workers, scheduler=args.scheduler,
+                       dask_workers=args.dask_workers, resolution=args.resolution,
+                       out=args.out, in_place=args.in_place)
+    except (TableError, BakeError) as exc:  # a bad table file, no Dask: one line, no traceback
         return fail(str(exc))
+    except KeyboardInterrupt:  # the finished blocks are kept (and said where)
+        return 130
     return 1 if failures else 0
 
 

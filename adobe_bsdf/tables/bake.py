@@ -1,26 +1,33 @@
-"""Baking tables: nodes computed in a process pool, deterministically, with a progress bar.
+"""Baking tables: node blocks computed in parallel (locally or on Dask), resumably and
+deterministically, with a progress bar.
 
 Public API
 ----------
-``compute(spec, coords, workers=2, progress=True)``  node values and errors at ``coords``.
-``bake(spec, workers=2, progress=True)``             the whole table, with its metadata.
-``check(spec, table, n_nodes, seed, workers)``       re-bake random nodes at a higher
-                                                     quadrature order and compare.
-``run(names, ..., out=None, in_place=False)``        the ``bake`` command: into ``out``
-                                                     (default ``user_folder()``), or over
-                                                     the shipped tables with ``in_place``.
+``open_executor(workers, scheduler, dask_workers)``  where node blocks run: in this process,
+    a local process pool, or a Dask cluster (``Executor``).
+``compute(spec, coords, workers, progress, ...)``  node values and errors at ``coords``.
+``bake(spec, workers, progress, ...)``  the whole table, with its metadata.
+``check(spec, table, n_nodes, seed, workers)``  re-bake random nodes at a higher quadrature
+    order and compare.
+``run(names, ..., out=None, in_place=False)``  the ``bake`` command: into ``out`` (default
+    ``user_folder()``), or over the shipped tables with ``in_place``.
 
-Nodes are cut into fixed blocks of ``BLOCK`` whatever the number of workers, so a table is
-bit-for-bit the same on any machine with the same NumPy/SciPy.
+Nodes are cut into fixed blocks of ``BLOCK`` whatever the executor and the number of workers,
+and the blocks are assembled in node order, so a table is bit-for-bit the same on any machine
+with the same NumPy/SciPy (and CPU features). With ``partial`` (the ``bake`` command: the
+folder ``<out>/<name>.partial``) every finished block is written as soon as it arrives, and
+a bake that was interrupted or killed resumes from the blocks it had finished.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
 import platform
+import shutil
+import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import NamedTuple
@@ -31,11 +38,14 @@ from tqdm import tqdm
 
 from adobe_bsdf._version import __version__
 from adobe_bsdf.tables.catalog import SPECS
+from adobe_bsdf.tables.executors import BakeError, Executor, open_executor
+from adobe_bsdf.tables.partial import PartialBake, partial_folder
 from adobe_bsdf.tables.table import Table, TableSpec
 
-__all__ = ["BLOCK", "CheckResult", "bake", "check", "compute", "run", "user_folder"]
+__all__ = ["BLOCK", "BakeError", "CheckResult", "Executor", "bake", "check", "compute",
+           "open_executor", "run", "user_folder"]
 
-#: nodes per task
+#: nodes per task (and per file of a partial bake): fixed, so results never depend on it
 BLOCK = 32
 
 
@@ -44,35 +54,81 @@ def _block(task):
     return spec.compute(spec, *coords)
 
 
-def compute(spec: TableSpec, coords, workers: int = 2, progress: bool = True,
-            parent: Table | None = None):
-    """Values and errors ``(n_nodes, n_outputs)`` of ``spec`` at node coordinates ``coords``
-    (one 1-D array per axis); a derived table reads the baked ``parent``."""
+def _using(ex: Executor | None, workers: int | None):
+    """``ex`` left open, or a new local executor of ``workers`` closed after use."""
+    return contextlib.nullcontext(ex) if ex is not None else open_executor(workers)
+
+
+def compute(spec: TableSpec, coords, workers: int | None = None, progress: bool = True,
+            parent: Table | None = None, *, executor: Executor | None = None,
+            partial=None):
+    """Values and errors ``(n_nodes, n_outputs)`` of ``spec`` at node coordinates ``coords``.
+
+    Parameters
+    ----------
+    spec : TableSpec
+    coords : sequence of array_like
+        One 1-D array of node coordinates per axis.
+    workers : int, optional
+        Local worker processes when no ``executor`` is given (default ``os.cpu_count()``).
+    progress : bool
+        Show a progress bar (nodes), advanced as blocks finish.
+    parent : Table, optional
+        The baked parent of a derived table (computed at once, without executor).
+    executor : Executor, optional
+        Where the blocks run (see ``open_executor``); left open.
+    partial : str or Path, optional
+        Folder of finished blocks: those found there (for this same declaration, nodes,
+        ``BLOCK`` and library versions) are loaded, every other one is written there as it
+        finishes. The caller removes the folder once the result is safe.
+    """
     coords = [np.asarray(c, dtype=np.float64) for c in coords]
-    n = len(coords[0])
-    if spec.depends:  # derived tables are cheap: no pool
+    if spec.depends:  # derived tables are cheap: no executor
         return spec.compute(spec, *coords, parent=parent)
-    tasks = [(spec, [c[s:s + BLOCK] for c in coords]) for s in range(0, n, BLOCK)]
-    bar = tqdm(total=n, desc=spec.name, unit="node", disable=not progress, leave=False)
-    results = []
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        for (_, part), result in zip(tasks, pool.map(_block, tasks), strict=True):
-            results.append(result)
-            bar.update(len(part[0]))
-    bar.close()
-    values = np.concatenate([r[0] for r in results])
+    blocks = [[c[s:s + BLOCK] for c in coords] for s in range(0, len(coords[0]), BLOCK)]
+    store = None if partial is None else PartialBake(partial, spec, coords, BLOCK)
+    results = [None] * len(blocks) if store is None else store.resume(blocks)
+    try:
+        with _using(executor, workers) as ex:
+            _fill(results, spec, blocks, ex, store, progress)
+    except KeyboardInterrupt:
+        if store is not None:
+            print(f"\n{spec.name}: interrupted; {len(store)} of {len(blocks)} blocks are kept "
+                  f"in {store.folder}: bake again to resume", file=sys.stderr, flush=True)
+        raise
+    values = np.concatenate([r[0] for r in results])  # in block order, however computed
     errors = np.concatenate([r[1] for r in results])
     return values, errors
 
 
-def bake(spec: TableSpec, workers: int = 2, progress: bool = True,
-         parent: Table | None = None) -> Table:
+def _fill(results, spec, blocks, ex, store, progress):
+    """Compute the blocks whose ``results`` are None on executor ``ex``, store each (if
+    ``store``) as it arrives, and advance a progress bar."""
+    todo = [i for i, r in enumerate(results) if r is None]
+    n = sum(len(b[0]) for b in blocks)
+    with (tqdm(total=n, initial=n - sum(len(blocks[i][0]) for i in todo), desc=spec.name,
+               unit="node", disable=not progress, leave=False) as bar,
+          contextlib.closing(ex.map(_block, [(spec, blocks[i]) for i in todo])) as done):
+        for k, result in done:
+            i = todo[k]
+            results[i] = result
+            if store is not None:
+                store.store(i, blocks[i], *result)
+            bar.update(len(blocks[i][0]))
+
+
+def bake(spec: TableSpec, workers: int | None = None, progress: bool = True,
+         parent: Table | None = None, *, executor: Executor | None = None,
+         partial=None) -> Table:
     """Compute every node of ``spec`` (a derived table from its baked ``parent``); the
-    metadata records how, how long, and the parent's content hash."""
+    metadata records how, how long, and the parent's content hash. ``workers``,
+    ``executor`` and ``partial`` are those of ``compute``."""
     start = time.perf_counter()
-    values, errors = compute(spec, spec.grid(), workers, progress, parent)
+    with _using(executor, workers) as ex:
+        values, errors = compute(spec, spec.grid(), progress=progress, parent=parent,
+                                 executor=ex, partial=partial)
     seconds = time.perf_counter() - start
-    meta = {"bake_seconds": round(seconds, 2), "workers": workers,
+    meta = {"bake_seconds": round(seconds, 2), "workers": ex.workers, "executor": ex.kind,
             "baked_utc": datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
             "library_version": __version__, "numpy": np.__version__,
             "scipy": scipy.__version__, "python": platform.python_version(),
@@ -93,8 +149,8 @@ class CheckResult(NamedTuple):
 
 
 def check(spec: TableSpec, table: Table, n_nodes: int = 16, seed: int = 0,
-          workers: int = 2, order: int | None = None, parent: Table | None = None
-          ) -> CheckResult:
+          workers: int | None = None, order: int | None = None, parent: Table | None = None,
+          *, executor: Executor | None = None) -> CheckResult:
     """Re-bake ``n_nodes`` random nodes (seeded) at quadrature order ``order`` (default:
     1.5 times the table's) and compare with the stored values."""
     rng = np.random.default_rng(seed)
@@ -103,7 +159,7 @@ def check(spec: TableSpec, table: Table, n_nodes: int = 16, seed: int = 0,
     coords = [c[index] for c in spec.grid()]
     order = order or (3 * spec.order) // 2
     fresh, _ = compute(dataclasses.replace(spec, order=order), coords, workers, progress=False,
-                       parent=parent)
+                       parent=parent, executor=executor)
     stored = table.values.reshape(n_total, -1)[index]
     errors = table.errors.reshape(n_total, -1)[index]
     return CheckResult(spec.name, len(index), float(np.abs(fresh - stored).max()),
@@ -132,8 +188,8 @@ def user_folder() -> Path:
     return Path(cache) / "adobe_bsdf" / "tables"
 
 
-def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=2, resolution=None,
-        out=None, in_place=False) -> int:
+def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler=None,
+        dask_workers=None, resolution=None, out=None, in_place=False) -> int:
     """The ``bake`` command: bake (or with ``do_check`` verify) tables; returns the number of
     failed checks.
 
@@ -144,12 +200,16 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=2, resolution=N
     do_check : bool
         Re-bake ``n_nodes`` random nodes (seeded by ``seed``) of the tables in ``out`` (default:
         the shipped ones) and compare; nothing is written.
-    workers : int
-        Worker processes.
+    workers, scheduler, dask_workers
+        Where the blocks run, as in ``open_executor``: ``workers`` local processes (default all
+        cores), the Dask scheduler at address ``scheduler``, or a local Dask cluster of
+        ``dask_workers`` processes.
     resolution : int, optional
         Nodes per axis instead of the declared ones (not with ``in_place``).
     out : str or Path, optional
-        Folder to write to (default ``user_folder()``).
+        Folder to write to (default ``user_folder()``). Finished blocks of the table being
+        baked are kept in ``<name>.partial`` there until it is saved, so that running the
+        same command again after an interruption resumes.
     in_place : bool
         Write over the shipped tables that the library reads (``store.data_dir()``).
     """
@@ -186,25 +246,32 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=2, resolution=N
         raise TableError(f"table {s.name} is derived from {name}, which is not in {folder}: "
                          f"bake {name} too")
 
-    for name in _ordered(list(names) or list(SPECS)):
-        s = spec(name)
-        if resolution:
-            s = _resized(name, resolution)
-        parent = parent_of(s) if s.depends else None
-        if do_check:
-            table = load(s, folder / f"{name}.npz")
-            r = check(s, table, n_nodes, seed, workers, parent=parent)
-            ok = r.max_difference <= CHECK_TOL
-            failures += not ok
-            print(f"{name:28s} {r.n_nodes:4d} nodes re-baked at order {r.order}: "
-                  f"max |diff| = {r.max_difference:.1e} (stored error estimate <= "
-                  f"{r.max_stored_error:.1e})  {'pass' if ok else 'FAIL'}", flush=True)
-            continue
-        table = bake(s, workers, progress=True, parent=parent)
-        save(table, folder / f"{name}.npz")
-        baked[name] = load(s, folder / f"{name}.npz")
-        print(f"{name:28s} {table.values.size:8d} values, {table.meta['bake_seconds']:8.1f} s, "
-              f"max error estimate {table.errors.max():.1e}", flush=True)
+    with open_executor(workers, scheduler, dask_workers) as ex:
+        if ex.kind != "in process":
+            print(f"computing on {ex}", flush=True)
+        for name in _ordered(list(names) or list(SPECS)):
+            s = spec(name)
+            if resolution:
+                s = _resized(name, resolution)
+            parent = parent_of(s) if s.depends else None
+            if do_check:
+                table = load(s, folder / f"{name}.npz")
+                r = check(s, table, n_nodes, seed, parent=parent, executor=ex)
+                ok = r.max_difference <= CHECK_TOL
+                failures += not ok
+                print(f"{name:28s} {r.n_nodes:4d} nodes re-baked at order {r.order}: "
+                      f"max |diff| = {r.max_difference:.1e} (stored error estimate <= "
+                      f"{r.max_stored_error:.1e})  {'pass' if ok else 'FAIL'}", flush=True)
+                continue
+            partial = None if s.depends else partial_folder(folder, name)
+            table = bake(s, progress=True, parent=parent, executor=ex, partial=partial)
+            save(table, folder / f"{name}.npz")
+            baked[name] = load(s, folder / f"{name}.npz")
+            if partial is not None:
+                shutil.rmtree(partial, ignore_errors=True)
+            print(f"{name:28s} {table.values.size:8d} values, "
+                  f"{table.meta['bake_seconds']:8.1f} s, "
+                  f"max error estimate {table.errors.max():.1e}", flush=True)
     return failures
 
 
