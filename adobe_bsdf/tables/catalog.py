@@ -9,6 +9,9 @@
 | ``ggx_dielectric_*_avg`` | alpha, eta | E_R_avg, E_T_avg | mu-averages of the two above |
 | ``asm_diffuse_L`` | mu, roughness, ior | L | [Kutz2021, §1.1 eq. 1], lobe integral L |
 | ``asm_diffuse_T`` | roughness, ior | T | [Kutz2021, §1.1 eq. 1], total integral T |
+| ``ggx_conductor_anisotropic`` | s, cos_phi, alpha, ratio | E | the anisotropic E(wo) |
+| ``ggx_conductor_anisotropic_avg`` | alpha, ratio | E_avg | its hemispherical average |
+| ``ggx_reflection_moments`` | v, cos_phi, alpha, ratio | M_0..M_16 | anisotropic Fresnel moments |
 | ``sheen_albedo`` | mu, roughness | E | [Kutz2021, §6 eqs. 15-18] (c = a = p = 1) |
 
 Node values come from ``energy.ggx_energy`` (piecewise Gauss–Legendre, error estimate per
@@ -27,10 +30,21 @@ import numpy as np
 from scipy.special import roots_legendre
 
 from adobe_bsdf.fresnel import _dielectric
+from adobe_bsdf.tables.anisotropic_energy import (
+    ALPHA_FLOOR,
+    blended,
+    cosine,
+    ggx_anisotropic_energy,
+    ggx_anisotropic_moments,
+    projected_alpha,
+    similarity,
+    unblended,
+)
 from adobe_bsdf.tables.energy import ggx_energy
 from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
-__all__ = ["SPECS", "ETA_MAX", "IOR_MAX", "ALPHA_MAX", "sheen_energy"]
+__all__ = ["SPECS", "ETA_MAX", "IOR_MAX", "ALPHA_MAX", "sheen_energy", "anisotropic_average",
+           "MOMENT_DEGREE"]
 
 #: largest index ratio n_dense / n_light of the dielectric tables (the ior range of ASM and
 #: OpenPBR, [1, 3]); from the dense side the relative index goes down to 1 / ETA_MAX
@@ -87,6 +101,77 @@ def _average(spec, *coords, parent: Table):
                  np.einsum("k,k...->...", w, parent.errors))
     # the nodes asked for are nodes of the parent: interpolation returns them exactly
     return full(*coords), full.error(*coords)
+
+
+def _anisotropic_conductor(spec, s, cos_phi, alpha, ratio):
+    """E at the similarity coordinate s (``anisotropic_energy.similarity``); alpha = 0 holds
+    the limit alpha -> 0 at fixed s (the lobe itself is then a mirror, E = 1, and is never
+    looked up)."""
+    alpha = np.maximum(alpha, ALPHA_FLOOR)
+    mu = cosine(s, projected_alpha(cos_phi, alpha, ratio))
+    e = ggx_anisotropic_energy(mu, np.arccos(cos_phi), alpha, ratio * alpha, spec.order)
+    return e.reflection[:, None], e.error_reflection[:, None]
+
+
+#: highest Legendre degree of the Fresnel moments (L within 2e-5 of the exact Fresnel's for
+#: ior >= 1.01, tests/test_anisotropic_energy.py)
+MOMENT_DEGREE = 16
+
+
+def _reflection_moments(spec, v, cos_phi, alpha, ratio):
+    """Fresnel moments M_k at the blended coordinate v (``anisotropic_energy.blended``), as
+    ``_anisotropic_conductor``."""
+    alpha = np.maximum(alpha, ALPHA_FLOOR)
+    mu = unblended(v, projected_alpha(cos_phi, alpha, ratio))
+    return ggx_anisotropic_moments(mu, np.arccos(cos_phi), alpha, ratio * alpha,
+                                   MOMENT_DEGREE, spec.order)
+
+
+#: Gauss points per cell and dimension of the anisotropic average
+_AVERAGE_ORDER = 8
+
+
+#: the cosine coordinates of the anisotropic tables: name -> (from mu, to mu)
+_COSINE_MAPS = {"s": (similarity, cosine), "v": (blended, unblended)}
+
+
+def anisotropic_average(parent: Table, alpha, ratio, order: int = _AVERAGE_ORDER):
+    """(1 / pi) int f(wo) mu_o d wo of every channel f of the anisotropic table ``parent``'s
+    interpolant at each (alpha, ratio): Gauss–Legendre in phi on every cell of |cos phi| and
+    in mu on every cell of the cosine coordinate (mapped to mu at that phi: the coordinate is
+    smooth in mu there, mu steep in it). The cosine coordinate depends on (alpha, ratio), so
+    between nodes the average of the interpolant is not the interpolated average (a
+    Kulla-Conty term's normalisation must match its E: ``docs/energy_models.md``). Returns
+    ``(values, errors)``, ``(n, n_outputs)``; ``order`` Gauss points per cell and
+    dimension."""
+    axis, c_axis = parent.spec.axes[:2]
+    to_coordinate, to_mu = _COSINE_MAPS[axis.name]
+    x, w = roots_legendre(order)
+    x, w = 0.5 * (x + 1.0), 0.5 * w
+    phi_edges = np.arccos(c_axis.nodes())[::-1]
+    phi_q = (phi_edges[:-1, None] + np.diff(phi_edges)[:, None] * x).ravel()
+    w_phi = (np.diff(phi_edges)[:, None] * w).ravel() * (2.0 / np.pi)
+    c_q = np.cos(phi_q)
+    alpha, ratio = np.atleast_1d(alpha), np.atleast_1d(ratio)
+    values = np.zeros((len(alpha), len(parent.spec.outputs)))
+    errors = np.zeros_like(values)
+    for k, (a, r) in enumerate(zip(alpha, ratio, strict=True)):
+        a_phi = projected_alpha(c_q, max(a, ALPHA_FLOOR), r)  # (P,)
+        mu_edges = to_mu(axis.nodes()[:, None], a_phi)  # (S, P)
+        lo, width = mu_edges[:-1, None, :], np.diff(mu_edges, axis=0)[:, None, :]
+        mu = lo + width * x[None, :, None]  # (S - 1, order, P)
+        weight = (2.0 * mu * width * w[None, :, None] * w_phi).ravel()
+        coords = [c.ravel() for c in np.broadcast_arrays(
+            np.minimum(to_coordinate(mu, a_phi), 1.0), c_q, a, r)]
+        values[k] = weight @ parent(*coords)
+        errors[k] = weight @ parent.error(*coords)
+    return values, errors
+
+
+def _anisotropic_average(spec, alpha, ratio, parent: Table):
+    """The derived average table: ``anisotropic_average`` at its nodes (4x denser than the
+    parent's in alpha and ratio)."""
+    return anisotropic_average(parent, alpha, ratio)
 
 
 #: sheen quadrature: geometric panels (ratio 4) towards each end where the integrand has
@@ -196,6 +281,23 @@ _IOR = Axis("ior", 1.0, IOR_MAX, 24, "log-linear", "cubic", log_scale=0.3)
 # onto the table by that similarity, ``docs/sheen.md``)
 _SHEEN_MU = Axis("mu", 0.0, 1.0, 96, "log-linear", "cubic", log_scale=0.5)
 _SHEEN_ROUGHNESS = Axis("roughness", 0.0, 1.0, 96, "log-linear", "cubic", log_scale=0.5)
+# the anisotropic tables: s (``anisotropic_energy.similarity``), |cos phi| from the axis of
+# alpha_max and ratio = alpha_min / alpha_max; near the smooth axis (|cos phi| -> 0) of a
+# nearly one-dimensional surface (ratio -> 0) the energy is a function of |cos phi| / ratio:
+# both log-spaced towards 0
+_COS_PHI = Axis("cos_phi", 0.0, 1.0, 12, "log-linear", "cubic")
+_RATIO = Axis("ratio", 0.0, 1.0, 12, "log-linear", "cubic")
+_ANISOTROPIC_AXES = (Axis("s", 0.0, 1.0, 24, "log-linear", "cubic"), _COS_PHI,
+                     Axis("alpha", 0.0, ALPHA_MAX, 24, "log-linear", "cubic"), _RATIO)
+# the moments weigh the reflection by the ASM diffuse's 1 - L: a coarser grid than the
+# conductor's (whose E is the whole albedo of a white metal)
+_MOMENT_AXES = (Axis("v", 0.0, 1.0, 24, "log-linear", "cubic"),
+                Axis("cos_phi", 0.0, 1.0, 9, "log-linear", "cubic"),
+                Axis("alpha", 0.0, ALPHA_MAX, 16, "log-linear", "cubic"),
+                Axis("ratio", 0.0, 1.0, 9, "log-linear", "cubic"))
+_ANISOTROPIC_QUADRATURE = ("piecewise Gauss-Legendre over stretched microfacet normals "
+                           "(scipy.special.roots_legendre), split at bisected horizon and "
+                           "visibility roots; error = |Q(n) - Q(2n/3)|")
 _SHEEN_QUADRATURE = ("piecewise Gauss-Legendre over (theta_i, phi_i) (scipy.special."
                      "roots_legendre), panels graded geometrically towards the horizon, the "
                      "normal and the azimuth of -wo; error = |Q(n) - Q(2n/3)|")
@@ -228,6 +330,22 @@ SPECS: dict[str, TableSpec] = {s.name: s for s in [
     _spec("asm_diffuse_T", (_ROUGHNESS, _IOR), ("T",), _average,
           "ASM total integral T = (1/pi) int L dsigma = 2 int L mu dmu",
           depends=("asm_diffuse_L",)),
+    TableSpec("ggx_conductor_anisotropic", _ANISOTROPIC_AXES,
+              ("E",), _anisotropic_conductor, _ANISOTROPIC_QUADRATURE, 12, (),
+              "directional albedo E(wo) of an anisotropic GGX conductor with F = 1 "
+              "(height-correlated Smith) at alpha_x = alpha >= alpha_y = ratio alpha, wo at "
+              "azimuth phi from the x axis, mu = cosine(s, projected alpha)"),
+    TableSpec("ggx_conductor_anisotropic_avg",
+              (Axis("alpha", 0.0, ALPHA_MAX, 96, "log-linear", "cubic"),
+               Axis("ratio", 0.0, 1.0, 48, "log-linear", "cubic")),
+              ("E_avg",), _anisotropic_average, _AVERAGE, 20, ("ggx_conductor_anisotropic",),
+              "E_avg(alpha, ratio) = (1/pi) int E(wo) mu_o d wo"),
+    TableSpec("ggx_reflection_moments", _MOMENT_AXES,
+              tuple(f"M_{k}" for k in range(MOMENT_DEGREE + 1)), _reflection_moments,
+              _ANISOTROPIC_QUADRATURE, 12, (),
+              "Fresnel moments M_k = int D_wo(m) P_k(2 wo.m - 1) G2 / G1 dm of an anisotropic "
+              "GGX reflection (P_k Legendre): a dielectric reflects sum_k a_k M_k with a_k "
+              "the Legendre coefficients of its Fresnel; axes as ggx_conductor_anisotropic"),
     TableSpec("sheen_albedo", (_SHEEN_MU, _SHEEN_ROUGHNESS), ("E",), _sheen, _SHEEN_QUADRATURE,
               16, (), "directional albedo E(mu, r) = int f cos theta_i d wi of the sheen BRDF "
               "with c = a = p = 1: [Kutz2021, §6 eqs. 15-18]"),

@@ -178,9 +178,14 @@ class Axis:
         h = p[1] - p[0]
         q = (p[:-1, None] + h * t).ravel()  # Gauss points of every cell
         density = 2.0 * back(q) * dback(q) * h * np.tile(w, self.n - 1)
-        index, weight = self.stencil(np.clip(back(q), self.lo, self.hi))
+        return self.rule_weights(np.clip(back(q), self.lo, self.hi), density)
+
+    def rule_weights(self, x, w) -> np.ndarray:
+        """Weights ``(n,)`` with sum_k W_k f_k = sum_q w_q f(x_q) for the interpolant f of
+        node values f_k: the quadrature rule (``x``, ``w``) carried onto the nodes."""
+        index, weight = self.stencil(np.asarray(x, dtype=np.float64))
         out = np.zeros(self.n)
-        np.add.at(out, index, density[:, None] * weight)
+        np.add.at(out, index, np.asarray(w, dtype=np.float64)[:, None] * weight)
         return out
 
     def describe(self) -> dict:
