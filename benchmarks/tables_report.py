@@ -5,7 +5,8 @@
 * interpolation error of every table at random off-node points against fresh node quadrature
   (``tables.ggx_energy`` at order 28), max and RMS, over the whole domain and over the
   region mu >= 0.01, alpha >= 0.0025 (roughness >= 0.05);
-* the error of the anisotropic lookup alpha = sqrt(alpha_x alpha_y) (conductor, F = 1);
+* the anisotropic conductor table against the stretched quadrature, and the isotropic table at
+  sqrt(alpha_x alpha_y) that anisotropic lobes read before it (conductor, F = 1);
 * the band of nearly index-matched, grazing queries (``energy_lookup.near_matched``): the raw
   tables there, the table path (which integrates there) and the tables just outside it;
 * table sizes, bake times (from the files' metadata) and the time to load every table;
@@ -16,6 +17,9 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import hashlib
+import os
 import time
 from pathlib import Path
 
@@ -23,15 +27,23 @@ import numpy as np
 
 from adobe_bsdf import lobes, tables
 from adobe_bsdf.lobes import energy_lookup as near
+from adobe_bsdf.materials.asm.diffuse import _lobe_integral
+from adobe_bsdf.materials.asm.mapping import effective_roughness
+from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.tables import bake as baking
 from adobe_bsdf.tables import ggx_energy
+from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_energy, ggx_anisotropic_moments
+from adobe_bsdf.tables.catalog import MOMENT_DEGREE
+from adobe_bsdf.tables.executors import open_executor
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 ORDER = 28
 
 
-#: tables whose interpolation error another report measures, through the lobe's own lookup
-#: (the sheen rescales small roughness: docs/sheen_measured.md)
-OWN_REPORT = ("sheen_albedo",)
+#: tables whose interpolation error is measured elsewhere, through the lobe's own lookup (the
+#: sheen rescales small roughness: docs/sheen_measured.md; the anisotropic conductor is
+#: looked up in its similarity coordinate: ``anisotropy_rows``)
+OWN_REPORT = ("sheen_albedo", "ggx_conductor_anisotropic", "ggx_reflection_moments")
 
 
 def _reference(name, coords):
@@ -73,18 +85,118 @@ def interpolation_rows(n, rng):
     return rows
 
 
-def anisotropy_rows(rng, n=50):
-    """|E_table(sqrt(ax ay)) - quadrature of the anisotropic lobe| for F = 1."""
+#: points of the anisotropic table's report and the reference quadrature order
+ANISO_POINTS, ANISO_ORDER = 400, 20
+
+
+def anisotropy_rows(rng, n=ANISO_POINTS):
+    """Conductor, F = 1, random wo and anisotropic alphas: |E| error of the anisotropic table
+    (``conductor_energy``) and of the isotropic table at sqrt(alpha_x alpha_y) (the lookup
+    before the anisotropic table) against the stretched quadrature at ``ANISO_ORDER``; per
+    range of alpha_max, whole domain and mu >= 0.01."""
+    mu = rng.random(n) ** 2
+    phi = 2.0 * np.pi * rng.random(n)
+    alpha_max = np.exp(rng.uniform(np.log(1e-3), np.log(tables.ALPHA_MAX), n))
+    alpha_min = alpha_max * rng.random(n)
+    swap = rng.random(n) < 0.5
+    ax, ay = np.where(swap, alpha_min, alpha_max), np.where(swap, alpha_max, alpha_min)
+    d = GGX(ax, ay)
+    s = np.sqrt(1.0 - mu * mu)
+    wo = np.stack([s * np.cos(phi), s * np.sin(phi), mu], -1)
+    ref = ggx_anisotropic_energy(mu, phi, d.alpha_x, d.alpha_y, order=ANISO_ORDER,
+                                 estimate=False).reflection
+    table = np.abs(near.conductor_energy(d, wo)[0] - ref)
+    iso = np.abs(tables.get("ggx_conductor")(mu, np.sqrt(d.alpha_x * d.alpha_y))[:, 0] - ref)
     rows = []
-    for ax, ay in [(0.5, 0.1), (0.3, 0.05), (1.0, 0.25), (0.2, 0.02)]:
-        lobe = lobes.Conductor(ax, ay)
-        mu = rng.random(n) * 0.98 + 0.02
-        phi = 2 * np.pi * rng.random(n)
-        s = np.sqrt(1 - mu * mu)
-        wo = np.stack([s * np.cos(phi), s * np.sin(phi), mu], -1)
-        quad = np.array([lobe.albedo(w, tol=1e-7)[0] for w in wo])  # one grid per direction
-        err = np.abs(lobe.albedo(wo, "table")[:, 0] - quad)
-        rows.append((ax, ay, err.max(), np.sqrt(np.mean(err**2))))
+    for lo, hi in [(1e-3, 0.05), (0.05, 0.5), (0.5, tables.ALPHA_MAX), (1e-3, tables.ALPHA_MAX)]:
+        sel = (alpha_max >= lo) & (alpha_max <= hi)
+        region = sel & (mu >= 0.01)
+        rows.append((lo, hi, sel.sum(), table[sel].max(), np.sqrt(np.mean(table[sel] ** 2)),
+                     table[region].max(), iso[sel].max()))
+    return rows
+
+
+def moments_rows(rng, n=200):
+    """The ASM's anisotropic lobe integral L (``materials.asm.diffuse._lobe_integral``: the
+    isotropic table plus the moments' correction) against the moments quadrature at order 16
+    with the exact Fresnel's Legendre coefficients: random ASM roughness, anisotropy
+    (>= 0.05), ior in [1, 4] and wo; max, 90th and 50th percentile, whole domain and
+    mu >= 0.02."""
+    r, a = rng.uniform(0.0, 1.0, n), rng.uniform(0.05, 1.0, n)
+    ior = 1.0 + 3.0 * rng.uniform(0.0, 1.0, n) ** 2
+    mu, phi = rng.uniform(0.0, 1.0, n) ** 2, rng.uniform(0.0, 2.0 * np.pi, n)
+    s = np.sqrt(1.0 - mu * mu)
+    wo = np.stack([s * np.cos(phi), s * np.sin(phi), mu], -1)
+    d = GGX(r * r + a**4, r * r)
+    L = _lobe_integral(effective_roughness(r, a), ior, wo, microfacets=d)[0]
+    M = ggx_anisotropic_moments(mu, phi, d.alpha_x, d.alpha_y, MOMENT_DEGREE, order=16,
+                                estimate=False)[0]
+    ref = np.einsum("nk,nk->n", M, near.fresnel_coefficients(ior, MOMENT_DEGREE))
+    e = np.abs(L - ref)
+    high = mu >= 0.02
+    return [("all", n, e.max(), np.percentile(e, 90), np.percentile(e, 50)),
+            ("mu >= 0.02", int(high.sum()), e[high].max(), np.percentile(e[high], 90),
+             np.percentile(e[high], 50))]
+
+
+#: the white furnace of anisotropic lobes: ASM alphas (alpha_x = r^2 + a^4, alpha_y = r^2)
+FURNACE_ROUGHNESS = (0.05, 0.2, 0.5, 1.0)
+FURNACE_ANISOTROPY = (0.5, 0.8, 1.0)
+FURNACE_COSINES = (1.0, 0.5, 0.1, 0.01)
+FURNACE_AZIMUTHS = (0.0, 0.3, np.pi / 4, np.pi / 2)
+FURNACE_SAMPLES = 40_000
+
+
+def anisotropic_furnace_rows(n_samples=FURNACE_SAMPLES):
+    """White anisotropic ``ConductorMS`` and ``DielectricMS`` (eta 1.5, from above): max |E - 1|
+    over ``FURNACE_COSINES`` x ``FURNACE_AZIMUTHS``. Conductor: single scattering by the
+    stretched quadrature (order 16) plus the compensation's exact table albedo, and the MC
+    albedo of the whole lobe (worst |E - 1| and its standard error); dielectric: MC only."""
+    c, p = np.meshgrid(FURNACE_COSINES, FURNACE_AZIMUTHS, indexing="ij")
+    c, p = c.ravel(), p.ravel()
+    s = np.sqrt(1.0 - c * c)
+    wo = np.stack([s * np.cos(p), s * np.sin(p), c], -1)
+    rows = []
+    for r in FURNACE_ROUGHNESS:
+        for a in FURNACE_ANISOTROPY:
+            ax, ay = r * r + a**4, r * r
+            metal = lobes.ConductorMS(ax, ay)
+            d = metal.components[0].distribution
+            E_ss = ggx_anisotropic_energy(c, p, d.alpha_x, d.alpha_y, order=16,
+                                          estimate=False).reflection
+            quad = np.abs(E_ss + metal.components[1].albedo(wo, "table")[:, 0] - 1.0).max()
+            mc, sigma = metal.albedo(wo, "mc", n_samples=n_samples, rng=5, return_error=True)
+            k = int(np.argmax(np.abs(mc[:, 0] - 1.0)))
+            glass = lobes.DielectricMS(1.5, ax, ay)
+            mc_d, sigma_d = glass.albedo(wo, "mc", n_samples=n_samples, rng=5,
+                                         return_error=True)
+            j = int(np.argmax(np.abs(mc_d[:, 0] - 1.0)))
+            rows.append((r, a, quad, mc[k, 0] - 1.0, sigma[k, 0], mc_d[j, 0] - 1.0,
+                         sigma_d[j, 0]))
+    return rows
+
+
+#: the scaling bake: ggx_conductor at this many nodes per axis
+SCALE_NODES = 32
+
+
+def bake_scale_rows():
+    """Bake time of ``ggx_conductor`` at ``SCALE_NODES`` x ``SCALE_NODES`` nodes in this
+    process, on a pool over all local cores, and on a 2-worker Dask ``LocalCluster`` (its
+    start-up excluded), with the SHA-256 of each result's values and errors."""
+    base = tables.spec("ggx_conductor")
+    spec = dataclasses.replace(base, axes=tuple(dataclasses.replace(a, n=SCALE_NODES)
+                                                for a in base.axes))
+    rows = []
+    for label, how in [("1 worker, in process", dict(workers=1)),
+                       (f"process pool, all {os.cpu_count()} cores", dict()),
+                       ("Dask LocalCluster, 2 workers", dict(dask_workers=2))]:
+        with open_executor(**how) as ex:
+            start = time.perf_counter()
+            table = baking.bake(spec, progress=False, executor=ex)
+            seconds = time.perf_counter() - start
+        digest = hashlib.sha256(table.values.tobytes() + table.errors.tobytes()).hexdigest()
+        rows.append((label, seconds, digest[:16]))
     return rows
 
 
@@ -191,7 +303,7 @@ def main(argv=None):
     out = ["<!-- written by `python -m benchmarks.tables_report`; do not edit by hand -->", "",
            "# Energy tables: sizes, bake times, interpolation error", "",
            "| table | axes (nodes, parameterisation, interpolation) | outputs | file size | "
-           "bake time (2 workers) | max node error estimate |", "|---|---|---|---|---|---|"]
+           "bake time (workers) | max node error estimate |", "|---|---|---|---|---|---|"]
     total = 0
     for name, spec in tables.SPECS.items():
         t = tables.get(name)
@@ -200,7 +312,8 @@ def main(argv=None):
         axes = ", ".join(f"{a.name} {a.n} {a.parameterisation} {a.interpolation}"
                          for a in spec.axes)
         out.append(f"| `{name}` | {axes} | {', '.join(spec.outputs)} | {size / 1024:.0f} KiB | "
-                   f"{t.meta['bake_seconds']:.1f} s | {t.errors.max():.1e} |")
+                   f"{t.meta['bake_seconds']:.1f} s ({t.meta.get('workers', 2)}) | "
+                   f"{t.errors.max():.1e} |")
     out += ["", f"All tables: {total / 2**20:.2f} MiB; loading and verifying all of them (hash "
             f"and declaration) takes {load_seconds:.2f} s.", "",
             "## Interpolation error at off-node points", "",
@@ -212,13 +325,59 @@ def main(argv=None):
             "|---|---|---|---|---|---|"]
     for row in interpolation_rows(args.points, rng):
         out.append("| `{}` | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |".format(*row))
-    out += ["", "## Anisotropic lookup", "",
-            "Conductor, F = 1: albedo from the isotropic table at alpha = sqrt(alpha_x alpha_y) "
-            "against direction-space quadrature of the anisotropic lobe (50 random wo, "
-            "mu >= 0.02).", "", "| alpha_x | alpha_y | max error | RMS error |",
-            "|---|---|---|---|"]
-    for row in anisotropy_rows(rng):
-        out.append("| {} | {} | {:.1e} | {:.1e} |".format(*row))
+    aniso = tables.spec("ggx_conductor_anisotropic")
+    out += ["", "## Anisotropic conductor", "",
+            "E(wo) of an anisotropic GGX conductor (F = 1) is tabulated over (s, |cos phi|, "
+            "alpha, ratio): alpha = max(alpha_x, alpha_y), ratio = min / max, phi the azimuth "
+            "of wo from the axis of alpha (the symmetries phi -> -phi, pi - phi leave "
+            "|cos phi|), and s = mu (1 + a) / (mu + a) with a = the roughness projected on "
+            "wo's azimuth (at small a the energy near grazing is a function of mu / a: the "
+            f"table needs {aniso.axes[0].n} nodes in s where the isotropic one has 128 in mu). "
+            "Nodes: the stretched-space quadrature ``tables.anisotropic_energy`` at order "
+            f"{aniso.order}. Below: {ANISO_POINTS} random wo (mu = u^2, phi uniform), "
+            "alpha_max log-uniform in [1e-3, 2], ratio uniform, either axis the rough one, "
+            f"against that quadrature at order {ANISO_ORDER}; last column, the isotropic "
+            "table at sqrt(alpha_x alpha_y), which anisotropic lobes read before.", "",
+            "| alpha_max in | points | max error | RMS error | max error, mu >= 0.01 | "
+            "isotropic table at sqrt(alpha_x alpha_y): max error |", "|---|---|---|---|---|---|"]
+    for lo, hi, count, emax, erms, eregion, eiso in anisotropy_rows(rng):
+        out.append(f"| [{lo:g}, {hi:g}] | {count} | {emax:.1e} | {erms:.1e} | {eregion:.1e} | "
+                   f"{eiso:.1e} |")
+    out += ["", "## Anisotropic dielectric reflection: the Fresnel moments", "",
+            "The ASM's lobe integral L of an anisotropic specular (`ggx_reflection_moments`, "
+            "read as a correction to the isotropic `asm_diffuse_L`) at 200 random points: ASM "
+            "roughness uniform, anisotropy in [0.05, 1], ior = 1 + 3 u^2, mu = u^2, phi "
+            "uniform; reference: the moments quadrature at order 16 with the exact Fresnel's "
+            "Legendre coefficients.", "",
+            "| points | count | max error | 90th percentile | median |", "|---|---|---|---|---|"]
+    for label, count, emax, e90, e50 in moments_rows(rng):
+        out.append(f"| {label} | {count} | {emax:.1e} | {e90:.1e} | {e50:.1e} |")
+    cosines = ", ".join(f"{x:g}" for x in FURNACE_COSINES)
+    azimuths = ", ".join(f"{x:.2g}" for x in FURNACE_AZIMUTHS)
+    out += ["", "## White furnace of anisotropic lobes", "",
+            "White `ConductorMS` (F = 1) and `DielectricMS` (eta 1.5, seen from above; its "
+            "Kulla–Conty tables are isotropic, read at sqrt(alpha_x alpha_y)) at the ASM "
+            "alphas alpha_x = r^2 + a^4, alpha_y = r^2, over cos theta_o in {"
+            f"{cosines}}} and azimuths {{{azimuths}}} from the rough axis (a rotation of the "
+            "lobe is an azimuth). *Quadrature*: single scattering by the stretched quadrature "
+            "(order 16) plus the compensation's table albedo (exact for its tables); *MC*: "
+            f"{FURNACE_SAMPLES} samples per direction, the worst E - 1 ± one standard error.",
+            "", "| roughness | anisotropy | conductor: max abs(E - 1), quadrature | "
+            "conductor: worst E - 1, MC | dielectric: worst E - 1, MC |",
+            "|---|---|---|---|---|"]
+    for r, a, quad, e_mc, s_mc, e_d, s_d in anisotropic_furnace_rows():
+        out.append(f"| {r:g} | {a:g} | {quad:.1e} | {e_mc:+.4f} ± {s_mc:.4f} | "
+                   f"{e_d:+.4f} ± {s_d:.4f} |")
+    scale = bake_scale_rows()
+    out += ["", "## Baking at scale", "",
+            f"`ggx_conductor` re-declared at {SCALE_NODES} x {SCALE_NODES} nodes, baked by "
+            "`tables.bake.bake` on each executor of `tables.executors.open_executor` (the Dask "
+            "cluster's start-up is not timed). The digest is SHA-256 of the values and errors: "
+            "the same bytes on every executor. This machine's cores are measured, not assumed: "
+            "the pool's time against the single process's shows what they give.", "",
+            "| executor | bake time | digest |", "|---|---|---|"]
+    for label, seconds, digest in scale:
+        out.append(f"| {label} | {seconds:.2f} s | `{digest}` |")
     out += ["", "## Nearly index-matched, grazing: the band integrated directly", "",
             f"Where max(eta, 1/eta) - 1 < {near.MATCHED_ETA:g} and cos theta_o < "
             f"{near.MATCHED_MU:g} a rough interface's energy depends on mu / |eta - 1| and "

@@ -9,10 +9,14 @@ Public API
                                   interface, both sides.
 ``DielectricMS``                  ``Dielectric`` + that term.
 
-The tables are isotropic: an anisotropic pair of alphas is looked up at
-alpha = sqrt(alpha_x alpha_y) (error measured in ``docs/tables.md``). Averages E_avg are the
-exact mu-averages of the interpolated E, so each term restores exactly 1 - E(mu_o) (up to the
-interpolation error of E) and a white furnace measures the tables' interpolation error.
+The conductor term reads E(wo) from "ggx_conductor" where isotropic and from
+"ggx_conductor_anisotropic" (a function of wo's azimuth) where alpha_x != alpha_y; with E_avg
+the hemispherical average (1 / pi) int E(w) cos d w of the same interpolant, the term
+restores exactly 1 - E(wo) for anisotropic roughness too, and stays separable and reciprocal.
+The dielectric terms' tables are isotropic: an anisotropic pair of alphas is looked up at
+alpha = sqrt(alpha_x alpha_y) (an approximation, its white furnace in ``docs/tables.md``).
+Averages are exact averages of the interpolated E, so a white furnace measures the tables'
+interpolation error (``docs/tables.md``).
 
 References: [KullaConty2017] the separable energy-compensation terms; [Kutz2021, §1.2] their
 use for metals (times base_color^2) and refractive dielectrics.
@@ -28,6 +32,7 @@ from adobe_bsdf.composition import Sum
 from adobe_bsdf.lobes.dielectric import Dielectric, _eta, interface_energy_scale
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
+    conductor_average,
     conductor_energy,
     dielectric_energy,
     grey,
@@ -52,13 +57,16 @@ class ConductorMultipleScattering(Separable):
     """f_ms = base_color^2 (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) [Kutz2021, §1.2].
 
     E is the F = 1 directional albedo of the GGX lobe and E_avg its cosine-weighted average
-    [KullaConty2017]; base_color^2 stands for the at-least-two bounces of every path
-    this term represents. Reciprocal and separable; cosine-sampled; one-sided.
+    over the hemisphere [KullaConty2017]; base_color^2 stands for the at-least-two bounces
+    of every path this term represents. Anisotropic roughness: E = E(mu, phi) and the
+    average runs over azimuth too, which keeps the term exact per direction (the
+    construction of [KullaConty2017] needs only E_avg = (1 / pi) int E cos).
+    Reciprocal and separable; cosine-sampled; one-sided.
 
     Parameters
     ----------
     alpha_x, alpha_y : array_like in [0, 2]
-        GGX roughness of the single-scattering lobe (tables at sqrt(alpha_x alpha_y)).
+        GGX roughness of the single-scattering lobe.
     base_color : colour in [0, 1]
         The metal's base colour (F0); 1 restores all energy of a white metal.
     """
@@ -72,9 +80,8 @@ class ConductorMultipleScattering(Separable):
         self.distribution = distribution
         self.alpha = table_alpha(distribution)
         self.base_color = base_color
-        self._scale = (self.base_color ** 2
-                       * _inverse_loss(tables.get("ggx_conductor_avg")(self.alpha)[..., 0])[
-                           ..., None])
+        self._scale = self.base_color ** 2 * _inverse_loss(conductor_average(distribution))[
+            ..., None]
 
     def __repr__(self) -> str:
         d = self.distribution
@@ -85,14 +92,14 @@ class ConductorMultipleScattering(Separable):
         return np.broadcast_shapes(self.distribution.param_shape, self.base_color.shape[:-1])
 
     def _X(self, w):
-        """1 - E(mu) (clamped at 0 against interpolation overshoot above E = 1)."""
+        """1 - E(w) (clamped at 0 against interpolation overshoot above E = 1)."""
         return np.maximum(1.0 - conductor_energy(self.distribution, w)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         return self._scale
 
     def _albedo_table(self, wo, with_error=True):
-        """base_color^2 (1 - E(mu_o)), exact for the tabulated E."""
+        """base_color^2 (1 - E(wo)), exact for the tabulated E."""
         E, error = conductor_energy(self.distribution, wo, with_error)
         loss = np.where(wo[..., 2] > 0.0, np.maximum(1.0 - E, 0.0), 0.0)
         scale = self.base_color ** 2

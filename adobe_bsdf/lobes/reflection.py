@@ -171,34 +171,28 @@ class MicrofacetReflection(SupportLobe):
         return finished_sample(wi, weight, pdf, np.where(ok, flags, int(Flags.NONE)))
 
     def _albedo_table(self, wo, with_error=True):
-        """E(mu_o, sqrt(alpha_x alpha_y)) of ``tables`` "ggx_conductor" for F = 1. With a
-        Fresnel the albedo has no table: it is ``quadrature.sampled_albedo`` Q_F, the 32 x 32
-        Gauss rule over the visible-normal sampler. Where isotropic, the F = 1 lobe is its
+        """E(wo) of ``tables`` "ggx_conductor" (isotropic) or "ggx_conductor_anisotropic" for
+        F = 1. With a Fresnel the albedo has no table: it is ``quadrature.sampled_albedo`` Q_F,
+        the 32 x 32 Gauss rule over the visible-normal sampler, with the F = 1 lobe as its
         control variate on the same nodes: E_F = E_table + Q_F - Q_1 (at least 0), exact
         for F = 1 and at most E_table for F <= 1, so that with the Kulla-Conty term a white
         metal's table albedo is 1 and no metal's exceeds it (the plain rule overshoots by up
-        to 2e-3 at grazing angles). Error: the change of Q_F (or Q_F - Q_1) at order 16."""
+        to 2e-3 at grazing angles). Error: the change of Q_F - Q_1 at order 16."""
         if self.fresnel is None:
             return tuple(map(grey, conductor_energy(self.distribution, wo, with_error)))
         d = self.distribution
         if d.smooth.all():
             return self._delta_albedo(wo), np.zeros(wo.shape[:-1] + (3,))
-        isotropic = (d.alpha_x == d.alpha_y) | d.smooth
-        white = Conductor._new(d, None) if np.any(isotropic) else None
+        white = Conductor._new(d, None)
 
         def rule(order):
-            q = quadrature.sampled_albedo(self, wo, order)
-            if white is None:
-                return q
-            return np.where(isotropic[..., None],
-                            q - quadrature.sampled_albedo(white, wo, order), q)
+            return (quadrature.sampled_albedo(self, wo, order)
+                    - quadrature.sampled_albedo(white, wo, order))
 
         value = rule(32)
         error = np.abs(value - rule(16)) if with_error else None
-        if white is not None:
-            E = grey(conductor_energy(d, wo)[0])
-            value = np.where(isotropic[..., None], np.maximum(E + value, 0.0), value)
-        return value, error
+        E = grey(conductor_energy(d, wo)[0])
+        return np.maximum(E + value, 0.0), error
 
     def _sampling_weight(self, wo):
         return luminance(self._F(np.abs(wo[..., 2])))

@@ -40,13 +40,16 @@ from adobe_bsdf.materials.asm import (
     asm_metal,
 )
 
-__all__ = ["CheckCase", "cases", "FURNACE_TOL", "FURNACE_TOL_DIELECTRIC"]
+__all__ = ["CheckCase", "cases", "FURNACE_TOL", "FURNACE_TOL_DIELECTRIC",
+           "FURNACE_TOL_ANISOTROPIC"]
 
 FURNACE_TOL = 1e-3
 """White-furnace bound of the table-based terms: the tables' interpolation error
 (``docs/tables.md``)."""
 FURNACE_TOL_DIELECTRIC = 2e-3
 """The same for a dielectric's R + T."""
+FURNACE_TOL_ANISOTROPIC = 2e-3
+"""The same for the anisotropic tables (``docs/tables.md``)."""
 
 
 @dataclass(frozen=True)
@@ -184,6 +187,8 @@ _CASES = (
     # -- Kulla-Conty multiple scattering
     CheckCase("ConductorMS a=0.5 F=1", lambda: ConductorMS(0.5), expected_albedo=_one,
               furnace_tol=FURNACE_TOL, tags=_TABLES),
+    CheckCase("ConductorMS a=(0.8,0.05) F=1", lambda: ConductorMS(0.8, 0.05),
+              expected_albedo=_one, furnace_tol=FURNACE_TOL_ANISOTROPIC, tags=_TABLES),
     CheckCase("ConductorMS a=(0.8,0.3) gold-ish", lambda: ConductorMS(
         0.8, 0.3, base_color=(1.0, 0.71, 0.31)), tags=_TABLES),
     CheckCase("DielectricMS eta=1.5 a=0.5", lambda: DielectricMS(1.5, 0.5),
@@ -220,6 +225,10 @@ _CASES = (
     CheckCase("ASM white diffuse + specular r=0.5 ior=1.5",
               lambda: AdobeStandardMaterial(base_color=1.0, roughness=0.5, ior=1.5),
               expected_albedo=_one, furnace_tol=1e-3, tags=_TABLES),
+    CheckCase("ASM white dielectric r=0.4 anisotropic",
+              lambda: AdobeStandardMaterial(base_color=1.0, roughness=0.4, ior=1.5,
+                                            anisotropy_level=0.8, anisotropy_angle=0.1),
+              expected_albedo=_one, furnace_tol=FURNACE_TOL_ANISOTROPIC, tags=_TABLES),
     CheckCase("ASM gold metal r=0.3 anisotropic",
               lambda: AdobeStandardMaterial(metallic=1.0, roughness=0.3, anisotropy_level=0.5,
                                             anisotropy_angle=0.1, **_ASM_GOLD),

@@ -9,7 +9,12 @@ from adobe_bsdf import _params, tables
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.composition import Sum
 from adobe_bsdf.fresnel import ExactDielectric
-from adobe_bsdf.lobes.energy_lookup import grey, reflected_energy
+from adobe_bsdf.lobes.energy_lookup import (
+    anisotropic_reflection,
+    anisotropic_reflection_average,
+    grey,
+    reflected_energy,
+)
 from adobe_bsdf.lobes.reflection import MicrofacetReflection
 from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.materials.asm.mapping import alphas, effective_roughness
@@ -26,22 +31,52 @@ def _ior(ior):
     return _params.real("ior", ior, 1.0, tables.IOR_MAX)
 
 
-def _lobe_integral(roughness, ior, w, with_error=False):
-    """``(L, error)``: L(mu) of [Kutz2021, §1.1 eq. 1] (0 below the surface) and its node error
-    (None unless ``with_error``)."""
+def _anisotropic(microfacets):
+    """Where ``microfacets`` (a GGX or None) is rough and anisotropic."""
+    if microfacets is None:
+        return np.asarray(False)
+    return ~microfacets.smooth & (microfacets.alpha_x != microfacets.alpha_y)
+
+
+def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None):
+    """``(L, error)``: L(w) of [Kutz2021, §1.1 eq. 1] (0 below the surface) and its node error
+    (None unless ``with_error``): "asm_diffuse_L" at ``roughness``, plus, where the
+    ``microfacets`` are anisotropic, what they reflect beyond the isotropic lobe at
+    alpha = roughness^2 (``anisotropic_reflection``, the Fresnel moments)."""
     up = w[..., 2] > 0.0
     L, error = reflected_energy("asm_diffuse_L", np.maximum(w[..., 2], 0.0),
                                 roughness * roughness, ior, {"roughness": roughness, "ior": ior},
                                 ior, with_error)
+    aniso = _anisotropic(microfacets)
+    if np.any(aniso):
+        dL, error_d = anisotropic_reflection(microfacets, _reference(roughness), ior, w,
+                                             with_error)
+        L = np.where(aniso, np.clip(L + dL, 0.0, 1.0), L)
+        error = np.where(aniso, error + error_d, error) if with_error else None
     return np.where(up, L, 0.0), None if error is None else np.where(up, error, 0.0)
+
+
+def _reference(roughness):
+    """The isotropic GGX of the tables' roughness (alpha = roughness^2)."""
+    return GGX._new(roughness * roughness, roughness * roughness)
+
+
+def _lobe_average(roughness, ior, microfacets):
+    """T = (1/pi) int L cos: "asm_diffuse_T", plus the anisotropic part's exact average."""
+    T = tables.get("asm_diffuse_T")(roughness, ior)[..., 0]
+    aniso = _anisotropic(microfacets)
+    if np.any(aniso):
+        T = np.where(aniso, T + anisotropic_reflection_average(
+            microfacets, _reference(roughness), ior), T)
+    return T
 
 
 class ASMSpecular(MicrofacetReflection):
     """The specular term S of [Kutz2021, §1.1]: GGX reflection with the exact dielectric
     Fresnel of ``ior``, alpha_x = r^2 + a^4, alpha_y = r^2 [Kutz2021, §3 eqs. 9-10]. Its
-    albedo is the lobe integral L, tabulated as ``asm_diffuse_L`` (at
-    ``mapping.table_roughness`` where anisotropic). Turn it with ``Rotated`` for the
-    anisotropy angle.
+    albedo is the lobe integral L, tabulated as ``asm_diffuse_L`` where isotropic and
+    from the anisotropic Fresnel moments ``ggx_reflection_moments`` where not. Turn it with
+    ``Rotated`` for the anisotropy angle.
 
     Parameters
     ----------
@@ -65,7 +100,7 @@ class ASMSpecular(MicrofacetReflection):
                 f"anisotropy_level={self.anisotropy_level})")
 
     def _albedo_table(self, wo, with_error=True):
-        L, error = _lobe_integral(self._table_r, self.ior, wo, with_error)
+        L, error = _lobe_integral(self._table_r, self.ior, wo, with_error, self.distribution)
         return grey(L), grey(error)
 
 
@@ -78,7 +113,9 @@ class ASMDiffuse(Separable):
     T = (1/pi) int L dsigma_perp its average. Reciprocal, separable, and with rho = 1 the sum
     D + S scatters all energy (the white furnace of [Kutz2021, Fig. 2]). T is the exact
     average of the interpolated L (``tables``), so that property holds up to L's
-    interpolation error. Cosine-sampled; one-sided.
+    interpolation error. Under an anisotropic specular, L = L(wo) depends on the azimuth
+    (the Fresnel moments) and T averages over it: the diffuse is then anisotropic too and
+    is turned with the specular. Cosine-sampled; one-sided.
 
     Parameters
     ----------
@@ -88,37 +125,47 @@ class ASMDiffuse(Separable):
         Roughness of the specular lobe it sits under.
     ior : array_like in [1, 4]
         Index of the specular interface.
+    anisotropy_level : array_like in [0, 1]
+        That of the specular lobe (its alphas r^2 + a^4, r^2).
     """
 
     flags = Flags.REFLECTION | Flags.DIFFUSE
 
-    def __init__(self, albedo, roughness, ior):
-        self._init(_params.color("albedo", albedo, 0.0, 1.0), _roughness(roughness), _ior(ior))
+    def __init__(self, albedo, roughness, ior, anisotropy_level=0.0):
+        self._init(_params.color("albedo", albedo, 0.0, 1.0), _roughness(roughness), _ior(ior),
+                   _params.real("anisotropy_level", anisotropy_level, 0.0, 1.0))
 
-    def _init(self, reflectance, roughness, ior):
-        self.reflectance, self.roughness, self.ior = reflectance, roughness, ior
-        T = tables.get("asm_diffuse_T")(self.roughness, self.ior)[..., 0]
+    def _init(self, reflectance, roughness, ior, anisotropy_level=None):
+        a = np.asarray(0.0) if anisotropy_level is None else anisotropy_level
+        self.reflectance, self.roughness, self.ior, self.anisotropy_level = (
+            reflectance, roughness, ior, a)
+        self._table_r = effective_roughness(roughness, a)
+        self.microfacets = GGX._new(*alphas(roughness, a)) if np.any(a > 0.0) else None
+        T = _lobe_average(self._table_r, self.ior, self.microfacets)
         self._scale = self.reflectance / (np.pi * (1.0 - T))[..., None]
 
     def __repr__(self) -> str:
         return (f"ASMDiffuse(albedo={self.reflectance}, roughness={self.roughness}, "
-                f"ior={self.ior})")
+                f"ior={self.ior}, anisotropy_level={self.anisotropy_level})")
 
     def _param_shape(self):
         return np.broadcast_shapes(self.roughness.shape, self.ior.shape,
-                                   self.reflectance.shape[:-1])
+                                   self.anisotropy_level.shape, self.reflectance.shape[:-1])
+
+    def _L(self, w, with_error=False):
+        return _lobe_integral(self._table_r, self.ior, w, with_error, self.microfacets)
 
     def _X(self, w):
-        """1 - L(mu), at least 0: the interpolated L can overshoot 1 by ~1e-8 at small
+        """1 - L(w), at least 0: the interpolated L can overshoot 1 by ~1e-8 at small
         roughness, which would make the diffuse term negative."""
-        return np.maximum(1.0 - _lobe_integral(self.roughness, self.ior, w)[0], 0.0)
+        return np.maximum(1.0 - self._L(w)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         return self._scale
 
     def _albedo_table(self, wo, with_error=True):
-        """rho (1 - L(mu_o)), exact for the tabulated L."""
-        L, error = _lobe_integral(self.roughness, self.ior, wo, with_error)
+        """rho (1 - L(wo)), exact for the tabulated L."""
+        L, error = self._L(wo, with_error)
         up = (wo[..., 2] > 0.0)[..., None]
         return (np.where(up, self.reflectance * np.maximum(1.0 - L, 0.0)[..., None], 0.0),
                 None if error is None else self.reflectance * error[..., None])

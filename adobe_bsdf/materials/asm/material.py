@@ -23,7 +23,6 @@ from adobe_bsdf.materials.asm.diffuse import ASMDiffuse, ASMSpecular
 from adobe_bsdf.materials.asm.mapping import (
     COAT_IOR_RANGE,
     CoatTransmittance,
-    effective_roughness,
     ior_under_coat,
     rotation,
 )
@@ -153,8 +152,8 @@ class AdobeStandardMaterial(Material):
             phi = rotation(angle)
             specular = ASMSpecular._new(r, eta, a)
             built["specular"] = Rotated._new(specular, phi) if _any(phi) else specular
-            built["diffuse"] = ASMDiffuse._new(p["base_color"], effective_roughness(r, a),
-                                                    eta)
+            diffuse = ASMDiffuse._new(p["base_color"], r, eta, a)
+            built["diffuse"] = Rotated._new(diffuse, phi) if _any(phi) and _any(a) else diffuse
             parts += [built["specular"], built["diffuse"]]
             weights += [_c(opaque), _c(opaque)]
         glass = (1.0 - metal) * clear
