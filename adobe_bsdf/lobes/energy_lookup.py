@@ -10,6 +10,7 @@ distinct direction), so every table path stays within the tables' stated error (
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import numpy as np
@@ -17,13 +18,19 @@ import numpy as np
 from adobe_bsdf import tables
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
-from adobe_bsdf.tables.anisotropic_energy import blended, projected_alpha, similarity
+from adobe_bsdf.tables.anisotropic_energy import (
+    blended,
+    fresnel_coefficients,
+    projected_alpha,
+    similarity,
+)
 from adobe_bsdf.tables.catalog import anisotropic_average
 from adobe_bsdf.tables.energy import ggx_energy
+from adobe_bsdf.tables.table import Table
 
 __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "conductor_average",
-           "anisotropic_coordinates", "anisotropic_reflection",
-           "anisotropic_reflection_average", "fresnel_coefficients",
+           "is_anisotropic", "anisotropic_coordinates", "anisotropic_reflection",
+           "anisotropic_reflection_average",
            "dielectric_energy", "sides",
            "checked_ratio", "reflected_energy", "near_matched", "passes_through",
            "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU"]
@@ -163,23 +170,42 @@ def _where(mask, value, fill):
     return None if value is None else np.where(mask, value, fill)
 
 
+def is_anisotropic(distribution: GGX) -> np.ndarray:
+    """Where ``distribution`` is rough with alpha_x != alpha_y: the anisotropic tables'
+    domain (isotropic lobes read the isotropic tables unchanged)."""
+    d = distribution
+    return ~d.smooth & (d.alpha_x != d.alpha_y)
+
+
+def _alpha_ratio(distribution: GGX):
+    """(alpha, ratio) of the anisotropic tables for ``distribution``."""
+    _, _, alpha, ratio = anisotropic_coordinates(distribution, _NORMAL)
+    return alpha, ratio
+
+
+_NORMAL = np.array([0.0, 0.0, 1.0])
+
+
 def conductor_energy(distribution: GGX, wo, with_error: bool = False):
     """``(E, error)``: single-scattering albedo E(wo) (F = 1), 0 below the surface, and its
     carried node error (None unless ``with_error``). Isotropic lobes read "ggx_conductor";
     anisotropic ones "ggx_conductor_anisotropic" at wo's azimuth (``anisotropic_coordinates``).
     """
-    up = wo[..., 2] > 0.0
-    mu = np.maximum(wo[..., 2], 0.0)
-    alpha = table_alpha(distribution, "ggx_conductor")
-    E, error = lookup("ggx_conductor", mu, with_error, alpha=alpha)
     d = distribution
-    aniso = np.broadcast_to(~d.smooth & (d.alpha_x != d.alpha_y), np.shape(E))
+    up = wo[..., 2] > 0.0
+    aniso = is_anisotropic(d)
     if np.any(aniso):
         s, cos_phi, alpha_max, ratio = anisotropic_coordinates(d, wo)
-        E_a, error_a = lookup("ggx_conductor_anisotropic", s, with_error, cos_phi=cos_phi,
-                              alpha=alpha_max, ratio=ratio)
-        E = np.where(aniso, E_a, E)
-        error = _where(aniso, error_a, error) if with_error else None
+        E, error = lookup("ggx_conductor_anisotropic", s, with_error, cos_phi=cos_phi,
+                          alpha=alpha_max, ratio=ratio)
+    if not np.all(aniso):
+        mu = np.maximum(wo[..., 2], 0.0)
+        E_i, error_i = lookup("ggx_conductor", mu, with_error,
+                              alpha=table_alpha(d, "ggx_conductor"))
+        if np.any(aniso):
+            E, error = np.where(aniso, E, E_i), _where(aniso, error, error_i)
+        else:
+            E, error = E_i, error_i
     return np.where(up, E, 0.0), _where(up, error, 0.0)
 
 
@@ -188,34 +214,11 @@ def conductor_average(distribution: GGX):
     isotropic, "ggx_conductor_anisotropic_avg" where not."""
     d = distribution
     E_avg = tables.get("ggx_conductor_avg")(table_alpha(d, "ggx_conductor"))[..., 0]
-    aniso = np.broadcast_to(~d.smooth & (d.alpha_x != d.alpha_y), np.shape(E_avg))
+    aniso = np.broadcast_to(is_anisotropic(d), np.shape(E_avg))
     if np.any(aniso):
-        _, _, alpha, ratio = anisotropic_coordinates(d, np.array([0.0, 0.0, 1.0]))
-        E_avg = np.where(aniso, tables.get("ggx_conductor_anisotropic_avg")(alpha, ratio)[
-            ..., 0], E_avg)
+        E_avg = np.where(aniso, tables.get("ggx_conductor_anisotropic_avg")(
+            *_alpha_ratio(d))[..., 0], E_avg)
     return E_avg
-
-
-#: Gauss–Legendre points of the Legendre coefficients of a Fresnel curve
-_FRESNEL_POINTS = 256
-
-
-@functools.lru_cache(maxsize=4)
-def _legendre_projector(degree: int) -> np.ndarray:
-    """``(c, P)``: Gauss points c in [0, 1] and the matrix P with a = F(c) @ P the Legendre
-    coefficients of F(c) = sum_k a_k P_k(2 c - 1) up to ``degree`` (orthogonal projection)."""
-    x, w = np.polynomial.legendre.leggauss(_FRESNEL_POINTS)
-    V = np.polynomial.legendre.legvander(x, degree)
-    return 0.5 * (x + 1.0), (w[:, None] * V) * (np.arange(degree + 1) + 0.5)
-
-
-def fresnel_coefficients(eta, degree: int) -> np.ndarray:
-    """Legendre coefficients ``(..., degree + 1)`` of the exact dielectric Fresnel F(c) of
-    relative index ``eta`` >= 1 on c = wo.m in [0, 1]: the weights of the moments of
-    "ggx_reflection_moments". Their absolute sum is ~1 (the moments' errors add, not grow)."""
-    c, P = _legendre_projector(degree)
-    F = _dielectric(c, np.asarray(eta, dtype=np.float64)[..., None])
-    return F @ P
 
 
 def anisotropic_reflection(distribution: GGX, reference: GGX, eta, wo,
@@ -225,15 +228,42 @@ def anisotropic_reflection(distribution: GGX, reference: GGX, eta, wo,
     sum_k a_k (M_k(wo) - M_k,reference(wo)) of the Fresnel moments "ggx_reflection_moments"
     (0 below the surface). Added to the reference's own table the moments' interpolation
     errors largely cancel where the lobe is nearly isotropic, and vanish where it is."""
+    E, error = _fresnel_moments(distribution, eta, wo, with_error)
+    E_ref, error_ref = _fresnel_moments(reference, eta, wo, with_error)
+    up = wo[..., 2] > 0.0
+    return (np.where(up, E - E_ref, 0.0),
+            np.where(up, error + error_ref, 0.0) if with_error else None)
+
+
+def _fresnel_moments(distribution: GGX, eta, wo, with_error: bool):
+    """sum_k a_k M_k(wo) of ``distribution`` under the Fresnel of ``eta``, and its node
+    error (None unless ``with_error``). A single (alpha, ratio, eta) reads a cached
+    ``_fresnel_slice``: the same interpolant, 16 gathers of one channel a lookup."""
+    v, cos_phi, alpha, ratio = anisotropic_coordinates(distribution, wo, blend=True)
+    if np.size(alpha) == 1 and np.size(eta) == 1:  # ratio has alpha's shape
+        table = _fresnel_slice(float(alpha.flat[0]), float(ratio.flat[0]),
+                               float(np.asarray(eta).flat[0]))
+        return (table(v, cos_phi)[..., 0],
+                table.error(v, cos_phi)[..., 0] if with_error else None)
     table = tables.get("ggx_reflection_moments")
     a = fresnel_coefficients(eta, len(table.spec.outputs) - 1)
-    here = anisotropic_coordinates(distribution, wo, blend=True)
-    there = anisotropic_coordinates(reference, wo, blend=True)
-    E = np.sum(a * (table(*here) - table(*there)), -1)
-    error = (np.sum(np.abs(a) * (table.error(*here) + table.error(*there)), -1)
-             if with_error else None)
-    up = wo[..., 2] > 0.0
-    return np.where(up, E, 0.0), _where(up, error, 0.0)
+    coords = (v, cos_phi, alpha, ratio)
+    return (np.sum(a * table(*coords), -1),
+            np.sum(np.abs(a) * table.error(*coords), -1) if with_error else None)
+
+
+@functools.lru_cache(maxsize=256)
+def _fresnel_slice(alpha: float, ratio: float, eta: float) -> Table:
+    """"ggx_reflection_moments" held at (``alpha``, ``ratio``) (``Table.fix``) and its
+    channels contracted with the Fresnel coefficients of ``eta``: a (v, cos_phi) table of
+    sum_k a_k M_k, the same function as the full lookup (the interpolation is linear in the
+    values and a tensor product), errors carried through |a_k|."""
+    fixed = tables.get("ggx_reflection_moments").fix(alpha=alpha, ratio=ratio)
+    a = fresnel_coefficients(eta, len(fixed.spec.outputs) - 1)
+    spec = dataclasses.replace(fixed.spec, name=f"{fixed.spec.name}[eta={eta:g}]",
+                               outputs=("E_R",))
+    return Table(spec, fixed.values @ a[:, None], fixed.errors @ np.abs(a)[:, None],
+                 fixed.meta)
 
 
 def anisotropic_reflection_average(distribution: GGX, reference: GGX, eta):
@@ -247,7 +277,7 @@ def anisotropic_reflection_average(distribution: GGX, reference: GGX, eta):
 
 def _averages(distribution: GGX) -> np.ndarray:
     """The moments' averages ``(..., K + 1)`` per element of ``distribution``."""
-    _, _, alpha, ratio = anisotropic_coordinates(distribution, np.array([0.0, 0.0, 1.0]))
+    alpha, ratio = _alpha_ratio(distribution)
     pairs = np.stack(np.broadcast_arrays(alpha, ratio), -1)
     unique, inverse = np.unique(pairs.reshape(-1, 2), axis=0, return_inverse=True)
     averages = np.array([_moment_averages(float(a), float(r)) for a, r in unique])

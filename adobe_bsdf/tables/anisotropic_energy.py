@@ -6,6 +6,10 @@ Public API
 ``ggx_anisotropic_energy(mu, phi, alpha_x, alpha_y, order=16)``
     E(wo) = int D_wo(m) G2(wo, wi) / G1(wo) dm of the GGX conductor with F = 1 seen from
     wo = (sin theta_o cos phi, sin theta_o sin phi, mu), and an error estimate per value.
+``ggx_anisotropic_moments(mu, phi, alpha_x, alpha_y, degree, order=16)``
+    Its Fresnel moments M_k (the same integral weighted by P_k(2 wo.m - 1)).
+``fresnel_coefficients(eta, degree)``
+    The Legendre coefficients a_k of a dielectric Fresnel: it reflects sum_k a_k M_k.
 
 GGX with roughness (alpha_x, alpha_y) is the alpha = 1 microsurface stretched
 [Heitz2014, §5.3]: a normal m' of the alpha = 1 surface is the normal m ~ (alpha_x m'_x,
@@ -35,12 +39,15 @@ order.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
+from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.tables.energy import Energy, _rule
 
 __all__ = ["ggx_anisotropic_energy", "ggx_anisotropic_moments", "projected_alpha", "similarity",
-           "cosine", "blended", "unblended", "ALPHA_FLOOR"]
+           "cosine", "blended", "unblended", "fresnel_coefficients", "ALPHA_FLOOR"]
 
 #: smallest projected roughness of the similarity coordinate (alpha_x = 0 rows and the
 #: smooth axis of a one-dimensional rough surface hold the limit alpha -> 0)
@@ -300,3 +307,25 @@ def ggx_anisotropic_energy(mu, phi, alpha_x, alpha_y, order: int = 16,
     shape = value.shape
     zero = np.zeros(shape)
     return Energy(value, zero, error, zero)
+
+
+#: Gauss–Legendre points of the Legendre coefficients of a Fresnel curve
+_FRESNEL_POINTS = 256
+
+
+@functools.lru_cache(maxsize=4)
+def _legendre_projector(degree: int) -> np.ndarray:
+    """``(c, P)``: Gauss points c in [0, 1] and the matrix P with a = F(c) @ P the Legendre
+    coefficients of F(c) = sum_k a_k P_k(2 c - 1) up to ``degree`` (orthogonal projection)."""
+    x, w = np.polynomial.legendre.leggauss(_FRESNEL_POINTS)
+    V = np.polynomial.legendre.legvander(x, degree)
+    return 0.5 * (x + 1.0), (w[:, None] * V) * (np.arange(degree + 1) + 0.5)
+
+
+def fresnel_coefficients(eta, degree: int) -> np.ndarray:
+    """Legendre coefficients ``(..., degree + 1)`` of the exact dielectric Fresnel F(c) of
+    relative index ``eta`` >= 1 on c = wo.m in [0, 1]: the weights of the moments of
+    "ggx_reflection_moments". Their absolute sum is ~1 (the moments' errors add, not grow)."""
+    c, P = _legendre_projector(degree)
+    F = _dielectric(c, np.asarray(eta, dtype=np.float64)[..., None])
+    return F @ P

@@ -13,6 +13,7 @@ from adobe_bsdf.lobes.energy_lookup import (
     anisotropic_reflection,
     anisotropic_reflection_average,
     grey,
+    is_anisotropic,
     reflected_energy,
 )
 from adobe_bsdf.lobes.reflection import MicrofacetReflection
@@ -35,7 +36,7 @@ def _anisotropic(microfacets):
     """Where ``microfacets`` (a GGX or None) is rough and anisotropic."""
     if microfacets is None:
         return np.asarray(False)
-    return ~microfacets.smooth & (microfacets.alpha_x != microfacets.alpha_y)
+    return is_anisotropic(microfacets)
 
 
 def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None):
