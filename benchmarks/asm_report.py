@@ -127,13 +127,13 @@ def measure_anisotropic_energy(n_samples=ANISO_SAMPLES):
     return rows
 
 
-def markdown_anisotropic_energy(rows):
+def markdown_anisotropic_energy(rows, n_samples=ANISO_SAMPLES):
     cosines = ", ".join(f"{c:g}" for c in ANISO_COSINES)
     out = ["", "## Anisotropic energy: worst loss and worst gain", "",
            "White anisotropic ASM materials: the metal (`metallic=1`, base and edge colour 1), "
            "the opaque dielectric (base colour 1, ior 1.5) and the translucent dielectric "
            "(`translucency=1`, ior 1.5), whose energy albedo (R + T) should be 1. "
-           f"Monte-Carlo albedo with {ANISO_SAMPLES} samples per direction (± one standard "
+           f"Monte-Carlo albedo with {n_samples} samples per direction (± one standard "
            f"error) over cos θ_o ∈ {{{cosines}}} and azimuths 0, π/4, π/2 from the rough axis. "
            "The metal's Kulla–Conty term and the opaque dielectric's diffuse read anisotropic "
            "tables (E(μ, φ) and the Fresnel moments of L); the translucent dielectric has no "
@@ -400,21 +400,22 @@ def markdown(rows, seconds):
     return "\n".join(out)
 
 
-def run(out: Path | None = None, n_paths: int = 200_000) -> Path:
+def run(out: Path | None = None, n_paths: int = 200_000,
+        aniso_samples: int = ANISO_SAMPLES) -> Path:
     start = time.perf_counter()
     docs = DOCS if out is None else Path(out)
     docs.mkdir(parents=True, exist_ok=True)
     rows = measure()
     media_rows = measure_media(n_paths)
     furnace = measure_furnace()
-    anisotropic = measure_anisotropic_energy()
+    anisotropic = measure_anisotropic_energy(aniso_samples)
     f82 = measure_f82()
     glasses, noise = measure_dispersion(), measure_colour_noise()
     tint, recip = measure_coat_tint(), measure_non_reciprocity()
     fig2 = measure_fig2()
     text = markdown(rows, time.perf_counter() - start)
     text += "\n".join(markdown_f82(f82) + markdown_furnace(furnace)
-                      + markdown_anisotropic_energy(anisotropic)
+                      + markdown_anisotropic_energy(anisotropic, aniso_samples)
                       + markdown_media(media_rows, n_paths)
                       + markdown_dispersion(glasses, noise) + markdown_fig2(fig2)
                       + markdown_coat(tint, recip))
@@ -427,8 +428,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
     parser.add_argument("--paths", type=int, default=200_000, help="random-walk paths")
+    parser.add_argument("--aniso-samples", type=int, default=ANISO_SAMPLES,
+                        help="MC samples per direction of the anisotropic energy")
     args = parser.parse_args(argv)
-    print(run(args.out, args.paths))
+    print(run(args.out, args.paths, args.aniso_samples))
     return 0
 
 

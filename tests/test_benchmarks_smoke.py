@@ -176,7 +176,7 @@ def test_hazy_report_smoke(tmp_path):
 def test_asm_report_writes_the_table_1_comparison(tmp_path):
     from benchmarks import asm_report
 
-    page = asm_report.run(tmp_path, n_paths=200)
+    page = asm_report.run(tmp_path, n_paths=200, aniso_samples=500)
     text = page.read_text(encoding="utf-8")
     assert page.parent == tmp_path and "closest data set" in text
     rows = [line for line in text.splitlines() if line.startswith("| Fe-Werner2009 |")]

@@ -14,7 +14,8 @@ import pytest
 import adobe_bsdf as ab
 from adobe_bsdf import tables
 from adobe_bsdf.tables import Axis, TableError, TableSpec, ggx_energy
-from adobe_bsdf.tables.bake import CHECK_TOL, bake, check
+from adobe_bsdf.tables.bake import bake, check
+from adobe_bsdf.tables.table import CHECK_TOL
 from tests.tolerances import EXACT
 
 SIZE_LIMIT = 20 * 2**20  # acceptance: all committed tables <= 20 MB
@@ -182,7 +183,10 @@ def test_bake_check_rebakes_random_nodes_at_a_higher_order(name):
     spec = tables.spec(name)
     parent = tables.get(spec.depends[0]) if spec.depends else None
     result = check(spec, tables.get(name), n_nodes=6, seed=7, workers=1, parent=parent)
-    assert result.max_difference <= CHECK_TOL, result
+    assert result.passed, result
+    # only the moments' nodes are declared less accurate (in their Fresnel combinations)
+    assert spec.check_tol == CHECK_TOL or (name == "ggx_reflection_moments"
+                                           and spec.checked is not None)
 
 
 def test_smooth_nodes_are_the_exact_fresnel_limit():

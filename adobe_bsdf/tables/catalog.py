@@ -34,6 +34,7 @@ from adobe_bsdf.tables.anisotropic_energy import (
     ALPHA_FLOOR,
     blended,
     cosine,
+    fresnel_coefficients,
     ggx_anisotropic_energy,
     ggx_anisotropic_moments,
     projected_alpha,
@@ -125,6 +126,20 @@ def _reflection_moments(spec, v, cos_phi, alpha, ratio):
     mu = unblended(v, projected_alpha(cos_phi, alpha, ratio))
     return ggx_anisotropic_moments(mu, np.arccos(cos_phi), alpha, ratio * alpha,
                                    MOMENT_DEGREE, spec.order)
+
+
+#: relative indices at which ``bake --check`` compares the moments' Fresnel combinations
+#: sum_k a_k M_k: the high moments alone converge slowly with the order (their differences
+#: between orders cancel in every Fresnel combination; ``docs/tables.md``)
+CHECK_ETAS = (1.01, 1.1, 1.5, 2.0, 3.0, IOR_MAX)
+#: accuracy of the moments' nodes in those combinations (measured in ``docs/tables.md``;
+#: a thousandth of their interpolation error)
+MOMENTS_CHECK_TOL = 3e-5
+
+
+def _fresnel_combinations():
+    """``(K + 1, len(CHECK_ETAS))``: the Fresnel coefficients a_k at ``CHECK_ETAS``."""
+    return fresnel_coefficients(np.array(CHECK_ETAS), MOMENT_DEGREE).T
 
 
 #: Gauss points per cell and dimension of the anisotropic average
@@ -345,7 +360,8 @@ SPECS: dict[str, TableSpec] = {s.name: s for s in [
               _ANISOTROPIC_QUADRATURE, 12, (),
               "Fresnel moments M_k = int D_wo(m) P_k(2 wo.m - 1) G2 / G1 dm of an anisotropic "
               "GGX reflection (P_k Legendre): a dielectric reflects sum_k a_k M_k with a_k "
-              "the Legendre coefficients of its Fresnel; axes as ggx_conductor_anisotropic"),
+              "the Legendre coefficients of its Fresnel; axes as ggx_conductor_anisotropic",
+              checked=_fresnel_combinations, check_tol=MOMENTS_CHECK_TOL),
     TableSpec("sheen_albedo", (_SHEEN_MU, _SHEEN_ROUGHNESS), ("E",), _sheen, _SHEEN_QUADRATURE,
               16, (), "directional albedo E(mu, r) = int f cos theta_i d wi of the sheen BRDF "
               "with c = a = p = 1: [Kutz2021, §6 eqs. 15-18]"),

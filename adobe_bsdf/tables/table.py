@@ -196,6 +196,10 @@ class Axis:
         return out
 
 
+#: largest |re-baked - stored| ``bake --check`` accepts by default
+CHECK_TOL = 1e-6
+
+
 @dataclass(frozen=True)
 class TableSpec:
     """Declaration of a table.
@@ -219,6 +223,12 @@ class TableSpec:
         Tables whose baked values ``compute`` reads (derived tables, e.g. averages).
     description : str
         What the table holds, with the source equation.
+    checked : callable or None
+        ``checked() -> A``, ``(n_outputs, m)``: ``bake --check`` compares the combinations
+        ``values @ A`` its users form instead of the channels themselves (None: the
+        channels), the stored errors carried through ``|A|``.
+    check_tol : float
+        Largest |re-baked - stored| ``bake --check`` accepts: the nodes' accuracy.
     """
 
     name: str
@@ -229,6 +239,8 @@ class TableSpec:
     order: int = 20
     depends: tuple = ()
     description: str = ""
+    checked: Callable | None = field(default=None, compare=False)
+    check_tol: float = field(default=CHECK_TOL, compare=False)
 
     @property
     def shape(self) -> tuple:
