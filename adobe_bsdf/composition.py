@@ -4,6 +4,7 @@ result can be combined again.
 Public API
 ----------
 ``Sum(*lobes, weights=None)``      f = sum_k w_k f_k, sampled as a mixture (one interface).
+``Mix(a, b, weight)``              OpenPBR's mix, (1 - w) f_a + w f_b.
 ``Layer(top, base, coverage=1, transmittance=None)``
                                    ``top`` over ``base`` by albedo scaling (below).
 ``Rotated(lobe, phi)``             ``lobe`` turned about the normal.
@@ -40,7 +41,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
-__all__ = ["Sum", "Layer", "Rotated", "Wrapper", "choose", "sample_where"]
+__all__ = ["Sum", "Mix", "Layer", "Rotated", "Wrapper", "choose", "sample_where"]
 
 #: full coverage, the default of ``Layer``
 _FULL = np.asarray(1.0)
@@ -281,6 +282,34 @@ class Sum(Lobe):
             return np.zeros(wo.shape[:-1])
         return sum(c._sampling_weight(wo) * (1.0 if w is None else luminance(w))
                    for c, w in zip(self.components, self.weights, strict=True))
+
+
+class Mix(Sum):
+    """OpenPBR's mix [Andersson2023, §Mixing; OpenPBR2026, §Mixing]: patches of two materials
+    side by side on one microsurface, ``b`` covering the fraction ``weight``,
+
+        f = (1 - w) f_a + w f_b.
+
+    Energy and reciprocity follow from linearity: E = (1 - w) E_a + w E_b (so two white
+    lobes mix to a white lobe) and the mix is reciprocal where both components are.
+    Sampling, pdf and weights are those of ``Sum`` with weights (1 - w, w): a component is
+    picked in proportion to its weight times its albedo estimate, and w = 0 or 1 leaves only
+    one component (eval, pdf and sampled directions bit for bit; sample weights to rounding).
+
+    Parameters
+    ----------
+    a, b : Lobe
+    weight : colour in [0, 1]
+        w, scalar or per channel (``(..., 3)``, a texture allowed).
+    """
+
+    def __init__(self, a: Lobe, b: Lobe, weight):
+        for name, lobe in (("a", a), ("b", b)):
+            if not isinstance(lobe, Lobe):
+                raise ValueError(f"{name} = {lobe!r}: a Mix takes two lobes")
+        w = _params.color("weight", weight, 0.0, 1.0)
+        self.weight = w
+        self._init((a, b), [1.0 - w, w])
 
 
 class Layer(Lobe):
