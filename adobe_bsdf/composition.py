@@ -5,8 +5,10 @@ Public API
 ----------
 ``Sum(*lobes, weights=None)``      f = sum_k w_k f_k, sampled as a mixture (one interface).
 ``Mix(a, b, weight)``              OpenPBR's mix, (1 - w) f_a + w f_b.
-``Layer(top, base, coverage=1, transmittance=None)``
+``Layer(top, base, coverage=1, transmittance=None, scaling="albedo")``
                                    ``top`` over ``base`` by albedo scaling (below).
+``reciprocal_normalisation(top, base, t)``
+                                   C of the reciprocal scaling.
 ``Rotated(lobe, phi)``             ``lobe`` turned about the normal.
 ``Wrapper``                        base of a lobe built around one inner lobe: forwards every
                                    hook of ``bsdf.HOOKS`` to it (``Rotated``, materials).
@@ -26,11 +28,14 @@ layer's medium (the coat's absorption). With E_top, E_base <= 1 and t <= 1,
 
 and with a white base and t = 1 the layer keeps all the energy (the white furnace).
 
-Why not the reciprocal form ``C (1 - E_top(wi)) (1 - E_top(wo)) f_base`` [Andersson2023]? Its
-normalisation C is an integral of the base BSDF weighted by 1 - E_top, a new table for every
-base: the ASM's "albedo scaling technique" and OpenPBR both use the form above. Its
-non-reciprocity, f(wo, wi) - f(wi, wo) = c t t (E_top(wi) - E_top(wo)) f_base, is measured in
-``docs/asm_measured.md``.
+This form is the default: the ASM's "albedo scaling technique" and OpenPBR v1.1.1 both use it.
+Its non-reciprocity, f(wo, wi) - f(wi, wo) = c t t (E_top(wi) - E_top(wo)) f_base, is measured
+in ``docs/asm_measured.md``. ``scaling="reciprocal"`` is the reciprocal form of
+[Andersson2023, §Layering], c C t(wo) t(wi) (1 - E_top(wi)) (1 - E_top(wo)) f_base, with its
+normalisation C from an integral of the base weighted by 1 - E_top, computed once per layer
+by ``reciprocal_normalisation`` (no table: it differs for every base): the largest C that
+never gains energy, so the white furnace holds exactly over a Lambertian base and a glossy
+base loses some energy.
 """
 
 from __future__ import annotations
@@ -41,7 +46,8 @@ from adobe_bsdf import _params
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
-__all__ = ["Sum", "Mix", "Layer", "Rotated", "Wrapper", "choose", "sample_where"]
+__all__ = ["Sum", "Mix", "Layer", "SCALINGS", "reciprocal_normalisation", "Rotated", "Wrapper",
+           "choose", "sample_where"]
 
 #: full coverage, the default of ``Layer``
 _FULL = np.asarray(1.0)
@@ -324,6 +330,9 @@ class Layer(Lobe):
         c, how much of the surface the top layer covers (the ASM coat's opacity).
     transmittance : callable or None
         ``transmittance(w) -> (..., 3)``, t(w) in [0, 1]; None is 1.
+    scaling : {"albedo", "reciprocal"}
+        The albedo-scaling form (module docstring); "reciprocal" needs scalar lobe
+        parameters (C is one colour per layer) and has no table albedo.
 
     Notes
     -----
@@ -335,21 +344,43 @@ class Layer(Lobe):
     same approximation for the base's whole lobe; it is exact where t = 1.
     """
 
-    def __init__(self, top: Lobe, base: Lobe, coverage=1.0, transmittance=None):
+    def __init__(self, top: Lobe, base: Lobe, coverage=1.0, transmittance=None,
+                 scaling: str = "albedo"):
         if not isinstance(top, Lobe) or not isinstance(base, Lobe):
             raise ValueError(f"top = {top!r}, base = {base!r}: a Layer takes two lobes")
         if transmittance is not None and not callable(transmittance):
             raise ValueError(f"transmittance = {transmittance!r}: allowed None or a callable")
-        self._init(top, base, _params.real("coverage", coverage, 0.0, 1.0), transmittance)
+        _params.choice("scaling", scaling, SCALINGS)
+        if scaling == "reciprocal":
+            for name, lobe in (("top", top), ("base", base)):
+                if lobe._param_shape() != ():
+                    raise ValueError(f"scaling = 'reciprocal' with {name} = {lobe!r}: its "
+                                     "normalisation C is one number per layer; allowed: lobes "
+                                     "whose parameters are scalars (not textures)")
+        self._init(top, base, _params.real("coverage", coverage, 0.0, 1.0), transmittance,
+                   scaling)
 
-    def _init(self, top, base, coverage=_FULL, transmittance=None):
+    def _init(self, top, base, coverage=_FULL, transmittance=None, scaling="albedo"):
         self.top, self.base = top, base
         self.coverage = coverage
         self.transmittance = transmittance
+        self.scaling = scaling
+        #: the reciprocal form's normalisation C ``(3,)`` and its standard error (None
+        #: until first needed; ``reciprocal_normalisation``)
+        self._C = None
         self.flags = top.flags | base.flags
 
     def __repr__(self) -> str:
-        return f"Layer({self.top!r}, {self.base!r}, coverage={self.coverage!r})"
+        extra = "" if self.scaling == "albedo" else f", scaling={self.scaling!r}"
+        return f"Layer({self.top!r}, {self.base!r}, coverage={self.coverage!r}{extra})"
+
+    @property
+    def normalisation(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(C, error)`` of the reciprocal form, ``(3,)`` each (``reciprocal_normalisation``;
+        computed once per layer)."""
+        if self._C is None:
+            self._C = reciprocal_normalisation(self.top, self.base, self._t)
+        return self._C
 
     @property
     def eta(self):
@@ -383,8 +414,13 @@ class Layer(Lobe):
         return self.coverage[..., None] * self._t(wo) * (1.0 - E_top), E_top
 
     def _weight(self, wo, wi, scaled):
-        """W(wo, wi) = (1 - c) + c t(wo) t(wi) (1 - E_top(wo)), ``(..., 3)``."""
-        return (1.0 - self.coverage)[..., None] + scaled * self._t(wi)
+        """W(wo, wi) = (1 - c) + c t(wo) t(wi) (1 - E_top(wo)) ``(..., 3)``, times
+        C (1 - E_top(wi)) in the reciprocal form."""
+        base = scaled * self._t(wi)
+        if self.scaling == "reciprocal":
+            base = base * self.normalisation[0] * (1.0 - np.minimum(self.top._top_albedo(wi),
+                                                                    1.0))
+        return (1.0 - self.coverage)[..., None] + base
 
     def _probabilities(self, wo, scaled, E_top):
         top = np.asarray(self.coverage * luminance(E_top))
@@ -452,6 +488,10 @@ class Layer(Lobe):
                 + self._weight(wo, wo, scaled) * self.base._delta_albedo(wo))
 
     def _albedo_table(self, wo, with_error=True):
+        if self.scaling == "reciprocal":
+            raise ValueError("scaling = 'reciprocal': the layer's albedo needs the base "
+                             "weighted by 1 - E_top(wi), which no table holds; use albedo "
+                             "method 'quadrature' or 'mc'")
         E_top, err_top = self.top._albedo_table(wo, with_error)
         E_top = np.minimum(E_top, 1.0)  # as ``_scaled``
         E_base, err_base = self.base._albedo_table(wo, with_error)
@@ -471,6 +511,55 @@ class Layer(Lobe):
 
     def _energy_scale_rgb(self, wo, wi):
         return self.base._energy_scale_rgb(wo, wi)
+
+
+#: the albedo-scaling forms of ``Layer``
+SCALINGS = ("albedo", "reciprocal")
+
+#: Gauss–Legendre cosines and azimuths of wo, and scrambled-Sobol samples of wi per wo, of
+#: ``reciprocal_normalisation``
+NORMALISATION_MU, NORMALISATION_PHI, NORMALISATION_SAMPLES = 24, 8, 1024
+
+
+def reciprocal_normalisation(top: Lobe, base: Lobe, t=lambda w: 1.0, seed: int = 0):
+    """``(C, error)``, ``(3,)`` each: the normalisation of the reciprocal albedo scaling
+    [Andersson2023, §Layering], f = f_top + C t t (1 - E_top(wi)) (1 - E_top(wo)) f_base.
+
+    Its albedo is E(wo) = E_top(wo) + (1 - E_top(wo)) t(wo) C I(wo) with
+    I(wo) = int t(wi) (1 - E_top(wi)) f_base |cos theta_i| d wi, so C = 1 / max_wo I(wo) (per
+    channel) is the largest constant that never makes a layer gain energy. Over a Lambertian
+    base I is the same at every wo, C = 1 / (rho (1 - E_avg,top)), and a white base keeps all
+    the energy (the white furnace); over a glossy base the layer loses some where I(wo) is
+    below its maximum. The maximum is taken over ``NORMALISATION_MU`` Gauss–Legendre cosines
+    times ``NORMALISATION_PHI`` azimuths of wo, each I from ``NORMALISATION_SAMPLES``
+    scrambled-Sobol samples of the base's own sampler, averaged over 4 independent
+    scramblings; ``error`` is their spread in C divided by 2 (one standard error)."""
+    from scipy.stats import qmc
+
+    x, _ = np.polynomial.legendre.leggauss(NORMALISATION_MU)
+    mu = 0.5 * (x + 1.0)
+    phi = (np.arange(NORMALISATION_PHI) + 0.5) * (2.0 * np.pi / NORMALISATION_PHI)
+    M, P = np.meshgrid(mu, phi, indexing="ij")
+    s = np.sqrt(1.0 - M * M)
+    wo = np.stack([s * np.cos(P), s * np.sin(P), M], -1).reshape(-1, 1, 3)
+    wo = np.broadcast_to(wo, (len(wo), NORMALISATION_SAMPLES, 3))
+    inner = []  # I(wo)
+    for k in range(4):
+        u = qmc.Sobol(3, scramble=True, seed=seed + k).random(NORMALISATION_SAMPLES)
+        sample = base.sample(wo, u)  # (wo, sample)
+        g = sample.weight * t(sample.wi) * _energy_factor(base, wo, sample.wi)
+        inner.append((g * (1.0 - np.minimum(top._top_albedo(sample.wi), 1.0))).mean(1))
+    inner = np.array(inner)  # (scrambling, wo, 3)
+    peak = inner.mean(0).max(0)
+    C = np.where(peak > 0.0, 1.0 / np.where(peak > 0.0, peak, 1.0), 1.0)
+    each = inner.max(1)
+    spread = np.where(each > 0.0, 1.0 / np.where(each > 0.0, each, 1.0), 1.0).std(0, ddof=1)
+    return C, spread / 2.0
+
+
+def _energy_factor(lobe: Lobe, wo, wi):
+    """The (eta_i / eta_o)^2 of transmitted energy (1 for reflection), ``(..., 1)``."""
+    return np.asarray(lobe._energy_scale(wo, wi))[..., None]
 
 
 class Rotated(Wrapper):
