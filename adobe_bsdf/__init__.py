@@ -11,6 +11,7 @@ The validation toolkit is imported on its own: ``import adobe_bsdf.validation``.
 from adobe_bsdf import (
     composition,
     config,
+    darkening,
     dispersion,
     frame,
     fresnel,
@@ -32,7 +33,7 @@ from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import Frame
 from adobe_bsdf.microfacet import GGX, Beckmann
 
-__all__ = ["composition", "config", "dispersion", "frame", "fresnel", "haze", "hazy", "lobes",
-           "materials", "media", "microfacet", "paper_figures", "plot", "quadrature", "render",
-           "spectral", "tables",
+__all__ = ["composition", "config", "darkening", "dispersion", "frame", "fresnel", "haze", "hazy",
+           "lobes", "materials", "media", "microfacet", "paper_figures", "plot", "quadrature",
+           "render", "spectral", "tables",
            "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "__version__"]

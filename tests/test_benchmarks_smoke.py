@@ -184,6 +184,14 @@ def test_asm_report_writes_the_table_1_comparison(tmp_path):
     assert "| Skimmilk" in text and "Table 3 media" in text
 
 
+def test_darkening_report_writes_its_page(tmp_path):
+    from benchmarks import darkening_report
+
+    text = darkening_report.run(tmp_path).read_text(encoding="utf-8")
+    assert "Values at normal incidence" in text
+    assert text.count("| coloured | tinted |") == 2 * len(darkening_report.COAT_IORS)
+
+
 def test_sheen_report_smoke(tmp_path):
     """``benchmarks.sheen_report`` (tiny sizes) writes its page into the given folder only,
     with every section."""

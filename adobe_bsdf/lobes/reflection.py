@@ -260,4 +260,11 @@ class DielectricReflection(MicrofacetReflection):
         E = np.where(light, parts[0][0], parts[1][0])
         error = np.where(light, parts[0][1], parts[1][1]) if with_error else None
         up = wo[..., 2] > 0.0
-        return grey(np.where(up, E, 0.0)), grey(None if error is None else np.where(up, error, 0))
+        E = grey(np.where(up, E, 0.0))
+        error = grey(None if error is None else np.where(up, error, 0.0))
+        smooth = self.distribution.smooth
+        if np.any(smooth):  # the exact Fresnel, not its interpolation in eta
+            smooth = smooth[..., None]
+            E = np.where(smooth, self._delta_albedo(wo), E)
+            error = None if error is None else np.where(smooth, 0.0, error)
+        return E, error
