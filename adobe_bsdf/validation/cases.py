@@ -153,7 +153,7 @@ _CASES = (
     CheckCase("Sum 0.3 Lambert + 0 + 0.7 Conductor a=(0.6,0.1)",
               lambda: Sum(Lambert(), Conductor(0.2), Conductor(0.6, 0.1),
                           weights=[(0.3, 0.2, 0.1), 0.0, (0.7, 0.8, 0.9)])),
-    CheckCase("Mix w=(0.2,0.5,0.7) Lambert / Dielectric eta=1.5 a=0.3",
+    CheckCase("Mix w=(0.2,0.5,0.7) diffuse 0.8 / Dielectric eta=1.5 a=0.3",
               lambda: Mix(Lambert(0.8), Dielectric(1.5, 0.3), (0.2, 0.5, 0.7)),
               cos_theta_o=(0.5, -0.5)),
     # -- dispersion
