@@ -13,8 +13,7 @@ from adobe_bsdf.composition import Layer
 from adobe_bsdf.lobes import Conductor, ConductorMS, Dielectric, DielectricReflection, Lambert
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation import strategies as vs
-from adobe_bsdf.validation.chi2 import chi2_test
-from tests.tolerances import CHI2_ALPHA, WEIGHT
+from tests.sampling_checks import assert_sampling_matches
 
 #: (coat eta, coat alpha): smooth, glossy and rough coats of low and high index
 COATS = [(1.3, 0.0), (1.5, 0.05), (1.5, 0.3), (2.0, 0.8)]
@@ -98,14 +97,8 @@ CHI2_CASES = [("coloured", 0.9), ("coloured", 0.2), ("glossy", 0.6)]
 
 @pytest.mark.parametrize(("base", "cos_theta"), CHI2_CASES)
 def test_chi2_and_sample_weights(base, cos_theta):
-    layer = _layer(1.5, 0.3, base, 0.8)
-    s = np.sqrt(1.0 - cos_theta**2)
-    wo = np.array([s * np.cos(0.2), s * np.sin(0.2), cos_theta])
-    result = chi2_test(layer, wo, n_samples=300_000, seed=CHI2_CASES.index((base, cos_theta)),
-                       alpha=CHI2_ALPHA, n_tests=len(CHI2_CASES))
-    assert result.passed, str(result)
-    weights = checks.weight_consistency(layer, wo, n_samples=20_000, rtol=WEIGHT)
-    assert weights.passed, weights
+    assert_sampling_matches(_layer(1.5, 0.3, base, 0.8), cos_theta, 0.2,
+                            CHI2_CASES.index((base, cos_theta)), len(CHI2_CASES))
 
 
 def test_finite_at_the_extremes():

@@ -9,8 +9,8 @@ from adobe_bsdf.composition import Mix
 from adobe_bsdf.lobes import Conductor, Dielectric, Lambert
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation import strategies as vs
-from adobe_bsdf.validation.chi2 import chi2_test
-from tests.tolerances import CHI2_ALPHA, EXACT, FURNACE, RECIPROCITY, WEIGHT
+from tests.sampling_checks import assert_sampling_matches
+from tests.tolerances import EXACT, FURNACE, RECIPROCITY
 
 WEIGHTS = np.array([0.2, 0.5, 0.7])
 
@@ -75,14 +75,8 @@ def _lobe(kind):
 @pytest.mark.parametrize(("kind", "cos_theta"), CHI2_CASES)
 def test_chi2_and_sample_weights(kind, cos_theta):
     """sample against pdf (p > 0.01 after Šidák), and every sample's weight = f |cos| / pdf."""
-    lobe = _lobe(kind)
-    s = np.sqrt(1.0 - cos_theta**2)
-    wo = np.array([s * np.cos(0.4), s * np.sin(0.4), cos_theta])
-    result = chi2_test(lobe, wo, n_samples=300_000, seed=CHI2_CASES.index((kind, cos_theta)),
-                       alpha=CHI2_ALPHA, n_tests=len(CHI2_CASES))
-    assert result.passed, str(result)
-    weights = checks.weight_consistency(lobe, wo, n_samples=20_000, rtol=WEIGHT)
-    assert weights.passed, weights
+    assert_sampling_matches(_lobe(kind), cos_theta, 0.4, CHI2_CASES.index((kind, cos_theta)),
+                            len(CHI2_CASES))
 
 
 @settings(max_examples=100, deadline=None)
