@@ -413,18 +413,20 @@ class Layer(Lobe):
         E_top = np.minimum(self.top._top_albedo(wo), 1.0)
         return self.coverage[..., None] * self._t(wo) * (1.0 - E_top), E_top
 
-    def _weight(self, wo, wi, scaled):
+    def _weight(self, wo, wi, scaled, E_top_i=None):
         """W(wo, wi) = (1 - c) + c t(wo) t(wi) (1 - E_top(wo)) ``(..., 3)``, times
-        C (1 - E_top(wi)) in the reciprocal form."""
+        C (1 - E_top(wi)) in the reciprocal form; ``E_top_i`` is E_top(wi) where the caller
+        has it (wi = wo or its mirror, whose albedo is wo's)."""
         base = scaled * self._t(wi)
         if self.scaling == "reciprocal":
-            base = base * self.normalisation[0] * (1.0 - np.minimum(self.top._top_albedo(wi),
-                                                                    1.0))
+            if E_top_i is None:
+                E_top_i = np.minimum(self.top._top_albedo(wi), 1.0)
+            base = base * self.normalisation[0] * (1.0 - E_top_i)
         return (1.0 - self.coverage)[..., None] + base
 
     def _probabilities(self, wo, scaled, E_top):
         top = np.asarray(self.coverage * luminance(E_top))
-        base = luminance(self._weight(wo, wo, scaled)) * self.base._sampling_weight(wo)
+        base = luminance(self._weight(wo, wo, scaled, E_top)) * self.base._sampling_weight(wo)
         top, base = np.broadcast_arrays(top, base)
         total = top + base
         P_top = np.where(total > 0.0, top / np.where(total > 0.0, total, 1.0), 0.5)
@@ -483,9 +485,9 @@ class Layer(Lobe):
         return finished_sample(wi, weight, pdf, flags)
 
     def _delta_albedo(self, wo):
-        scaled, _ = self._scaled(wo)
+        scaled, E_top = self._scaled(wo)
         return (self.coverage[..., None] * self.top._delta_albedo(wo)
-                + self._weight(wo, wo, scaled) * self.base._delta_albedo(wo))
+                + self._weight(wo, wo, scaled, E_top) * self.base._delta_albedo(wo))
 
     def _albedo_table(self, wo, with_error=True):
         if self.scaling == "reciprocal":
@@ -504,7 +506,8 @@ class Layer(Lobe):
     def _sampling_weight(self, wo):
         scaled, E_top = self._scaled(wo)
         return (self.coverage * luminance(E_top)
-                + luminance(self._weight(wo, wo, scaled)) * self.base._sampling_weight(wo))
+                + luminance(self._weight(wo, wo, scaled, E_top))
+                * self.base._sampling_weight(wo))
 
     def _energy_scale(self, wo, wi):
         return self.base._energy_scale(wo, wi)  # the top reflects only
@@ -547,7 +550,7 @@ def reciprocal_normalisation(top: Lobe, base: Lobe, t=lambda w: 1.0, seed: int =
     for k in range(4):
         u = qmc.Sobol(3, scramble=True, seed=seed + k).random(NORMALISATION_SAMPLES)
         sample = base.sample(wo, u)  # (wo, sample)
-        g = sample.weight * t(sample.wi) * _energy_factor(base, wo, sample.wi)
+        g = sample.weight * t(sample.wi) * base._energy_scale_rgb(wo, sample.wi)
         inner.append((g * (1.0 - np.minimum(top._top_albedo(sample.wi), 1.0))).mean(1))
     inner = np.array(inner)  # (scrambling, wo, 3)
     peak = inner.mean(0).max(0)
@@ -555,11 +558,6 @@ def reciprocal_normalisation(top: Lobe, base: Lobe, t=lambda w: 1.0, seed: int =
     each = inner.max(1)
     spread = np.where(each > 0.0, 1.0 / np.where(each > 0.0, each, 1.0), 1.0).std(0, ddof=1)
     return C, spread / 2.0
-
-
-def _energy_factor(lobe: Lobe, wo, wi):
-    """The (eta_i / eta_o)^2 of transmitted energy (1 for reflection), ``(..., 1)``."""
-    return np.asarray(lobe._energy_scale(wo, wi))[..., None]
 
 
 class Rotated(Wrapper):

@@ -17,7 +17,7 @@ from tests.sampling_checks import assert_sampling_matches
 
 #: (coat eta, coat alpha): smooth, glossy and rough coats of low and high index
 COATS = [(1.3, 0.0), (1.5, 0.05), (1.5, 0.3), (2.0, 0.8)]
-#: white furnace of a form that promises it [issue acceptance: 1 +- 2e-3]
+#: white furnace of a form that promises it: 1 +- 2e-3
 FURNACE_TOL = 2e-3
 COSINES = np.array([1.0, 0.7, 0.3, 0.1, 0.02])
 
