@@ -133,7 +133,7 @@ def _reflection_moments(spec, v, cos_phi, alpha, ratio):
 #: between orders cancel in every Fresnel combination; ``docs/tables.md``)
 CHECK_ETAS = (1.01, 1.1, 1.5, 2.0, 3.0, IOR_MAX)
 #: accuracy of the moments' nodes in those combinations (measured in ``docs/tables.md``;
-#: a thousandth of their interpolation error)
+#: far below their interpolation error)
 MOMENTS_CHECK_TOL = 3e-5
 
 
