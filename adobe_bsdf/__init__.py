@@ -4,7 +4,8 @@ generalized F82 Fresnel model and hazy gloss; OpenPBR Surface is planned.
 Layers, each importing only those below it (``docs/architecture.md``): core maths
 (``fresnel``, ``microfacet``, ``frame``, ``spectral``, ``haze``, ...) ← ``tables`` and
 ``quadrature`` ← ``bsdf`` (the protocol) ← ``composition`` ← ``lobes`` ← ``materials``;
-``validation``, ``render``, ``plot``, ``paper_figures`` and the command line beside them.
+``layered`` (the stochastic layered reference) beside ``materials``; ``validation``,
+``render``, ``plot``, ``paper_figures`` and the command line beside them.
 The validation toolkit is imported on its own: ``import adobe_bsdf.validation``.
 """
 
@@ -17,6 +18,7 @@ from adobe_bsdf import (
     fresnel,
     haze,
     hazy,
+    layered,
     lobes,
     materials,
     media,
@@ -31,9 +33,11 @@ from adobe_bsdf import (
 from adobe_bsdf._version import __version__
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
 from adobe_bsdf.frame import Frame
+from adobe_bsdf.layered import LayeredReference
 from adobe_bsdf.microfacet import GGX, Beckmann
 
 __all__ = ["composition", "config", "darkening", "dispersion", "frame", "fresnel", "haze", "hazy",
-           "lobes", "materials", "media", "microfacet", "paper_figures", "plot", "quadrature",
-           "render", "spectral", "tables",
-           "BSDFSample", "Flags", "Lobe", "Frame", "GGX", "Beckmann", "__version__"]
+           "layered", "lobes", "materials", "media", "microfacet", "paper_figures", "plot",
+           "quadrature", "render", "spectral", "tables",
+           "BSDFSample", "Flags", "Lobe", "LayeredReference", "Frame", "GGX", "Beckmann",
+           "__version__"]

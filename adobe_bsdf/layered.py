@@ -1,0 +1,529 @@
+"""A stochastic layered BSDF: light followed between two interfaces, through an optional
+scattering slab between them. It is the ground truth the albedo-scaling ``Layer`` is measured
+against (``docs/layering.md``), slow on purpose.
+
+Public API
+----------
+``LayeredReference(top, base, thickness=0, medium_albedo=0, g=0, n_samples=64, max_depth=256,
+seed=0)``
+    position-free Monte-Carlo layered BSDF [Guo2018] in the form of pbrt-v4's
+    ``LayeredBxDF`` [Pharr2023, §14.3]: ``eval`` and ``pdf`` are unbiased (``eval``) and
+    approximate (``pdf``) estimates from random walks, ``sample`` follows one walk.
+``henyey_greenstein(wo, wi, g)``, ``sample_henyey_greenstein(wo, u2, g)``
+    the Henyey–Greenstein phase function of the slab [Henyey1941].
+
+The layer
+---------
+``top`` is the upper interface (a ``Dielectric``, rough or smooth, typically), ``base`` the
+lower one (any lobe: ``Lambert``, a conductor, a dielectric that transmits out of the
+bottom), both in the shading frame (normal +z); between them is a homogeneous slab of optical
+thickness ``thickness`` (extinction 1 per unit length, so the transmittance along w is
+exp(-thickness / |cos theta|)), single-scattering albedo ``medium_albedo`` and asymmetry g.
+Light enters through the top: directions with ``wo`` below the surface give 0.
+"""
+
+from __future__ import annotations
+
+import zlib
+
+import numpy as np
+
+from adobe_bsdf import _params, config
+from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
+from adobe_bsdf.frame import _coordinate_system
+from adobe_bsdf.lobes.dielectric import interface_energy_scale
+
+__all__ = ["LayeredReference", "henyey_greenstein", "sample_henyey_greenstein"]
+
+_DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
+#: below this |g| the phase function is sampled as isotropic (the inversion's 1/g)
+_G_ISOTROPIC = 1e-3
+#: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
+_UNIFORM_SHARE = 0.1
+
+
+def henyey_greenstein(wo, wi, g) -> np.ndarray:
+    """p(wo, wi) = (1 - g^2) / (4 pi (1 + g^2 + 2 g wo.wi)^(3/2)) [Henyey1941], per steradian,
+    with both directions pointing away from the scattering point (g > 0: forward, wi = -wo)."""
+    cos = np.sum(np.asarray(wo) * np.asarray(wi), axis=-1)
+    denom = 1.0 + g * g + 2.0 * g * cos
+    return (1.0 - g * g) / (4.0 * np.pi * denom * np.sqrt(np.maximum(denom, 0.0)))
+
+
+def sample_henyey_greenstein(wo, u2, g):
+    """``(wi, pdf)``: wi drawn from ``henyey_greenstein(wo, ., g)`` by inverting its cumulative
+    distribution in the cosine about the travel direction -wo [Pharr2023, §11.3.1]."""
+    u, v = u2[..., 0], u2[..., 1]
+    if abs(g) < _G_ISOTROPIC:
+        cos = 1.0 - 2.0 * u
+    else:
+        s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u)
+        cos = (1.0 + g * g - s * s) / (2.0 * g)
+    cos = np.clip(cos, -1.0, 1.0)
+    sin = np.sqrt(1.0 - cos * cos)
+    d = -np.asarray(wo)
+    t, b = _coordinate_system(d)
+    phi = 2.0 * np.pi * v
+    wi = ((sin * np.cos(phi))[..., None] * t + (sin * np.sin(phi))[..., None] * b
+          + cos[..., None] * d)
+    return wi, henyey_greenstein(wo, wi, g)
+
+
+def _power(a, b):
+    """The power heuristic a^2 / (a^2 + b^2) of two densities [Veach1997, §9.2.4]."""
+    a2, b2 = a * a, b * b
+    return np.where(a2 > 0.0, a2 / np.where(a2 + b2 > 0.0, a2 + b2, 1.0), 0.0)
+
+
+#: directions (both sides) and uniforms at which ``_specular`` probes a lobe's sampler
+_PROBE_MU = np.array([1.0, 0.7, 0.3, 0.05, -0.05, -0.3, -0.7, -1.0])
+_PROBE_U = np.array([[0.1, 0.2, 0.3], [0.5, 0.5, 0.5], [0.9, 0.7, 0.1], [0.99, 0.05, 0.8]])
+
+
+def _specular(lobe: Lobe) -> bool:
+    """Whether every sample of ``lobe`` is a delta (its ``eval`` and ``pdf`` then vanish):
+    its flags have no smooth kind, or (a lobe whose class can be either, as a ``Dielectric``
+    of roughness 0) its sampler returns deltas only at probe directions on both sides."""
+    if not lobe.flags & Flags.DELTA:
+        return False
+    if not lobe.flags & (Flags.GLOSSY | Flags.DIFFUSE):
+        return True
+    s = np.sqrt(1.0 - _PROBE_MU**2)
+    wo = np.stack([s, np.zeros_like(s), _PROBE_MU], -1)[:, None]
+    sample = lobe._sample(np.broadcast_to(wo, (len(wo), len(_PROBE_U), 3)).reshape(-1, 3),
+                          np.tile(_PROBE_U, (len(wo), 1)))
+    made = sample.flags != int(Flags.NONE)
+    return bool(np.all((sample.flags[made] & int(Flags.DELTA)) != 0))
+
+
+class _Walks:
+    """The state of a batch of random walks: which pair each serves, its throughput, direction
+    of travel and height in the slab; ``keep`` drops the walks that ended."""
+
+    def __init__(self, pair, beta, w, z):
+        self.pair, self.beta, self.w, self.z = pair, beta, w, z
+
+    def keep(self, mask):
+        self.pair, self.beta, self.w, self.z = (a[mask] for a in (self.pair, self.beta, self.w,
+                                                                   self.z))
+
+    def __len__(self):
+        return len(self.pair)
+
+
+class LayeredReference(Lobe):
+    """``top`` over ``base`` with the light followed between them (module docstring): the
+    position-free Monte-Carlo layered BSDF of [Guo2018] as [Pharr2023, §14.3] writes it.
+
+    ``eval(wo, wi)`` averages ``n_samples`` random walks per pair: each enters through the
+    top (a sample of its transmission), bounces between the interfaces and through the slab
+    (free flights of the extinction, Henyey–Greenstein scattering, Russian roulette after 4
+    bounces where the throughput is below 1/4), and at every vertex connects to ``wi``
+    through the exit interface (next-event estimation) by two strategies, a sample of the exit
+    from ``wi`` and a sample of the vertex, weighed by the power heuristic. It is unbiased
+    up to the walks cut at ``max_depth`` bounces; ``eval_with_error`` gives its standard
+    error. Reflection by the top alone, f_top(wo, wi), is added exactly.
+
+    ``sample`` follows one walk from ``wo`` until it leaves the layer: its weight is an
+    unbiased estimate of f |cos| / pdf (the walk's product of interface weights), its ``pdf``
+    the estimate of ``pdf``. ``pdf`` is pbrt-v4's estimate: the top's reflection density
+    plus, per walk, the density of the paths that cross the slab once each way (TRT) or
+    once (TT), mixed with 1/(4 pi) (a tenth): positive wherever ``eval`` can be, not the exact
+    density of ``sample``. The random numbers of a call are seeded by ``seed`` and the
+    directions' bytes: the same call gives the same result.
+
+    Parameters
+    ----------
+    top, base : Lobe, with scalar parameters
+    thickness : float in [0, inf)
+        Optical thickness of the slab.
+    medium_albedo : colour in [0, 1]
+        Single-scattering albedo of the slab (0: it only absorbs, exp(-thickness / |cos|)).
+    g : float in (-1, 1)
+        Henyey–Greenstein asymmetry of the slab's scattering.
+    n_samples : int >= 1
+        Walks per evaluated pair (``eval``, ``pdf``).
+    max_depth : int >= 1
+        Bounces after which a walk stops.
+    seed : int >= 0
+    """
+
+    def __init__(self, top: Lobe, base: Lobe, thickness=0.0, medium_albedo=0.0, g=0.0,
+                 n_samples: int = 64, max_depth: int = 256, seed: int = 0):
+        for name, lobe in (("top", top), ("base", base)):
+            if not isinstance(lobe, Lobe):
+                raise ValueError(f"{name} = {lobe!r}: a LayeredReference takes two lobes")
+            if lobe._param_shape() != ():
+                raise ValueError(f"{name} = {lobe!r} has parameters of shape "
+                                 f"{lobe._param_shape()}; allowed: scalar parameters")
+        albedo = _params.color("medium_albedo", medium_albedo, 0.0, 1.0)
+        if albedo.ndim > 1:
+            raise ValueError(f"medium_albedo has shape {albedo.shape}; allowed: a single "
+                             "colour, () or (3,)")
+        self.top, self.base = top, base
+        self.thickness = _params.scalar("thickness", thickness, 0.0, np.inf, hi_open=True)
+        self.medium_albedo = np.broadcast_to(albedo, (3,))
+        self.g = _params.scalar("g", g, -1.0, 1.0, lo_open=True, hi_open=True)
+        self.n_samples = _params.integer("n_samples", n_samples, 1)
+        self.max_depth = _params.integer("max_depth", max_depth, 1)
+        self.seed = _params.integer("seed", seed, 0)
+        #: whether the interfaces are smooth (every sample a delta)
+        self._top_smooth, self._base_smooth = _specular(top), _specular(base)
+        #: whether every path is a delta (smooth interfaces, no scattering): eval is 0
+        self._all_delta = self._top_smooth and self._base_smooth and not self._scatters
+        flags = Flags.REFLECTION
+        if base.flags & Flags.TRANSMISSION:
+            flags |= Flags.TRANSMISSION
+        if top.flags & Flags.DELTA or self._all_delta:
+            flags |= Flags.DELTA
+        if not self._all_delta:
+            flags |= Flags.GLOSSY
+        self.flags = flags
+
+    def __repr__(self) -> str:
+        return (f"LayeredReference({self.top!r}, {self.base!r}, thickness={self.thickness}, "
+                f"medium_albedo={self.medium_albedo.tolist()}, g={self.g}, "
+                f"n_samples={self.n_samples})")
+
+    def _param_shape(self):
+        return ()
+
+    @property
+    def _scatters(self) -> bool:
+        """Whether the slab scatters (else it only absorbs, or is empty)."""
+        return self.thickness > 0.0 and bool(np.any(self.medium_albedo > 0.0))
+
+    @property
+    def eta(self):
+        """n below the base / n above the top, where the base transmits; else None."""
+        if self.top.eta is None or self.base.eta is None:
+            return None
+        return self.top.eta * self.base.eta
+
+    def _energy_scale(self, wo, wi):
+        if self.eta is None:
+            return super()._energy_scale(wo, wi)
+        return interface_energy_scale(self.eta, wo, wi)
+
+    def _rng(self, *arrays) -> np.random.Generator:
+        """The generator of one call: ``seed`` and a checksum of its arguments."""
+        return np.random.default_rng(
+            [self.seed] + [zlib.crc32(np.ascontiguousarray(a).tobytes()) for a in arrays])
+
+    def _transmittance(self, dz, w):
+        """exp(-|dz| / |cos theta|) along ``w`` (0 in the tangent plane)."""
+        with np.errstate(divide="ignore"):
+            return np.exp(-np.abs(dz) / np.abs(w[..., 2]))[..., None]
+
+    def _blocks(self, n):
+        """Ranges of pairs whose walks fit in about ``config`` ``chunk_size`` elements."""
+        step = max(1, config.get_options().chunk_size // self.n_samples)
+        return [(a, min(a + step, n)) for a in range(0, n, step)]
+
+    # -- eval -------------------------------------------------------------------------------
+    def eval_with_error(self, wo, wi) -> tuple[np.ndarray, np.ndarray]:
+        """``(eval(wo, wi), standard error)``, RGB ``(..., 3)`` each."""
+        return self._batched(self._eval_error, (
+            (_params.direction_shape("wo", wo), lambda a: _params.check_unit("wo", a)),
+            (_params.direction_shape("wi", wi), lambda a: _params.check_unit("wi", a))))
+
+    def _eval(self, wo, wi):
+        return self._eval_error(wo, wi)[0]
+
+    def _eval_error(self, wo, wi):
+        batch = np.broadcast_shapes(wo.shape, wi.shape)[:-1]
+        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
+        wi = np.broadcast_to(wi, batch + (3,)).reshape(-1, 3)
+        rng = self._rng(wo, wi)
+        f = np.zeros((len(wo), 3))
+        err = np.zeros((len(wo), 3))
+        entering = wo[:, 2] > 0.0
+        for exits_top in (True, False):
+            chosen = np.flatnonzero(entering & ((wi[:, 2] > 0.0) == exits_top)
+                                    & (wi[:, 2] != 0.0))
+            for a, b in self._blocks(len(chosen)):
+                index = chosen[a:b]
+                mean, se = self._walk_eval(wo[index], wi[index], exits_top, rng)
+                f[index], err[index] = mean, se
+        up = np.flatnonzero(entering & (wi[:, 2] > 0.0))
+        if len(up):
+            f[up] += self.top._eval(wo[up], wi[up])
+        return f.reshape(batch + (3,)), err.reshape(batch + (3,))
+
+    def _walk_eval(self, wo, wi, exits_top: bool, rng):
+        """Mean and standard error ``(n, 3)`` of ``n_samples`` walks per pair whose ``wi`` leaves
+        through the top (``exits_top``) or the base: [Pharr2023, §14.3.2]'s
+        ``LayeredBxDF::f`` entered through the top."""
+        n, S = len(wo), self.n_samples
+        exit_, other = (self.top, self.base) if exits_top else (self.base, self.top)
+        exit_z = self.thickness if exits_top else 0.0
+        top_z = self.thickness
+        pair = np.repeat(np.arange(n), S)
+        wo_w, wi_w = wo[pair], wi[pair]
+        contribution = np.zeros((n * S, 3))
+        # the way in: a transmission sample of the top from wo
+        s = self.top._sample(wo_w, rng.random((n * S, 3)))
+        # the way out: a transmission sample of the exit from wi (light's direction, adjoint)
+        x = exit_._sample(wi_w, rng.random((n * S, 3)))
+        x_w = x.weight * exit_._energy_scale_rgb(wi_w, x.wi)  # f(x.wi, wi) |cos| / pdf
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x_f = x_w / np.abs(x.wi[:, 2:3])  # f(x.wi, wi) / pdf: a slab vertex has no cosine
+        ok = ((s.pdf > 0.0) & (s.wi[:, 2] < 0.0) & (x.pdf > 0.0)
+              & (x.wi[:, 2] * wi_w[:, 2] < 0.0))
+        x_f = np.where(ok[:, None], x_f, 0.0)
+        idx = np.flatnonzero(ok)
+        walks = _Walks(idx, s.weight[idx], s.wi[idx], np.full(len(idx), top_z))
+        x_wi, x_pdf, x_wt = x.wi, x.pdf, x_w
+        x_delta = (x.flags & _DELTA) != 0
+        exit_smooth, other_smooth = ((self._top_smooth, self._base_smooth) if exits_top else
+                                      (self._base_smooth, self._top_smooth))
+        albedo = self.medium_albedo
+        for depth in range(self.max_depth):
+            if not len(walks):
+                break
+            if depth > 3:  # Russian roulette
+                m = walks.beta.max(-1)
+                q = np.where(m < 0.25, np.maximum(0.0, 1.0 - m), 0.0)
+                survive = rng.random(len(walks)) >= q
+                walks.beta = walks.beta / np.where(survive, 1.0 - q, 1.0)[:, None]
+                walks.keep(survive)
+            walks.keep(walks.w[:, 2] != 0.0)
+            if not len(walks):
+                break
+            k = walks.pair
+            if self._scatters:
+                dz = -np.log1p(-rng.random(len(walks))) * np.abs(walks.w[:, 2])
+                zp = np.where(walks.w[:, 2] > 0.0, walks.z + dz, walks.z - dz)
+                inside = (zp > 0.0) & (zp < self.thickness)
+                if np.any(inside):
+                    j = np.flatnonzero(inside)
+                    kj, w, beta = k[j], walks.w[j], walks.beta[j]
+                    # next event through the exit along the presampled direction
+                    p = henyey_greenstein(-w, -x_wi[kj], self.g)
+                    wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p))
+                    np.add.at(contribution, kj, beta * albedo * (p * wt)[:, None]
+                              * self._transmittance(zp[j] - exit_z, x_wi[kj]) * x_f[kj])
+                    w_new, p_new = sample_henyey_greenstein(-w, rng.random((len(j), 2)),
+                                                            self.g)
+                    beta = beta * albedo  # p / pdf = 1
+                    if not exit_smooth:
+                        h = np.flatnonzero((w_new[:, 2] > 0.0) == exits_top)  # to the exit
+                        if len(h):
+                            kh = kj[h]
+                            f_exit = exit_._eval(-w_new[h], wi_w[kh])
+                            exit_pdf = exit_._pdf(wi_w[kh], -w_new[h])
+                            wt = _power(p_new[h], exit_pdf)
+                            np.add.at(contribution, kh,
+                                      beta[h] * self._transmittance(zp[j][h] - exit_z, w_new[h])
+                                      * f_exit * wt[:, None])
+                    walks.beta[j], walks.w[j], walks.z[j] = beta, w_new, zp[j]
+                stuck = zp == walks.z  # a flight too short to move: drawn again
+                walks.z = np.where(inside, walks.z, np.clip(zp, 0.0, self.thickness))
+                at = ~inside & ~stuck
+            else:
+                walks.z = np.where(walks.w[:, 2] > 0.0, top_z, 0.0)
+                walks.beta = walks.beta * self._transmittance(self.thickness, walks.w)
+                at = np.ones(len(walks), dtype=bool)
+            # scattering by the interface reached: the top going up, the base going down
+            at_exit = at & ((walks.w[:, 2] > 0.0) == exits_top)
+            at_other = at & ~at_exit
+            alive = ~at  # walks scattered in the slab go on
+            for mask, lobe, is_other in ((at_exit, exit_, False), (at_other, other, True)):
+                j = np.flatnonzero(mask)
+                if not len(j):
+                    continue
+                kj, w, beta = k[j], walks.w[j], walks.beta[j]
+                if is_other and not other_smooth:  # next event along the presampled wi
+                    f_o, p_o = other._eval_pdf(-w, -x_wi[kj])
+                    wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p_o))
+                    np.add.at(contribution, kj, beta * f_o * wt[:, None]
+                              * self._transmittance(self.thickness, x_wi[kj]) * x_wt[kj])
+                bs = lobe._sample(-w, rng.random((len(j), 3)))
+                back = (bs.pdf > 0.0) & (bs.wi[:, 2] * w[:, 2] < 0.0)  # reflected, not out
+                beta = beta * bs.weight
+                if is_other and not exit_smooth:  # next event along the sampled direction
+                    h = np.flatnonzero(back)
+                    if len(h):
+                        kh, w_new = kj[h], bs.wi[h]
+                        f_exit = exit_._eval(-w_new, wi_w[kh])
+                        exit_pdf = exit_._pdf(wi_w[kh], -w_new)
+                        wt = np.where((bs.flags[h] & _DELTA) != 0, 1.0,
+                                      _power(bs.pdf[h], exit_pdf))
+                        np.add.at(contribution, kh, beta[h] * f_exit * wt[:, None]
+                                  * self._transmittance(self.thickness, w_new))
+                walks.beta[j], walks.w[j] = beta, bs.wi
+                alive[j] = back
+            walks.keep(alive & np.all(np.isfinite(walks.beta), -1))
+        c = contribution.reshape(n, S, 3)
+        mean = c.mean(1)
+        se = c.std(1, ddof=1) / np.sqrt(S) if S > 1 else np.zeros_like(mean)
+        return mean, se
+
+    # -- pdf --------------------------------------------------------------------------------
+    def _pdf(self, wo, wi):
+        batch = np.broadcast_shapes(wo.shape, wi.shape)[:-1]
+        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
+        wi = np.broadcast_to(wi, batch + (3,)).reshape(-1, 3)
+        rng = self._rng(wo, wi, np.array([1]))
+        pdf = np.zeros(len(wo))
+        entering = wo[:, 2] > 0.0
+        possible = {True: True, False: bool(self.base.flags & Flags.TRANSMISSION)}
+        for exits_top in (True, False):
+            if not possible[exits_top]:
+                continue
+            chosen = np.flatnonzero(entering & ((wi[:, 2] > 0.0) == exits_top)
+                                    & (wi[:, 2] != 0.0))
+            for a, b in self._blocks(len(chosen)):
+                index = chosen[a:b]
+                estimate = self._walk_pdf(wo[index], wi[index], exits_top, rng)
+                if exits_top:
+                    estimate = estimate + self.top._pdf(wo[index], wi[index])
+                pdf[index] = (_UNIFORM_SHARE / (4.0 * np.pi)
+                              + (1.0 - _UNIFORM_SHARE) * estimate)
+        return pdf.reshape(batch)
+
+    def _eval_pdf(self, wo, wi):
+        return self._eval(wo, wi), self._pdf(wo, wi)
+
+    def _walk_pdf(self, wo, wi, exits_top: bool, rng):
+        """pbrt-v4's ``LayeredBxDF::PDF`` estimate of the paths through the slab, ``(n,)``."""
+        n, S = len(wo), self.n_samples
+        pair = np.repeat(np.arange(n), S)
+        wo_w, wi_w = wo[pair], wi[pair]
+        top, base = self.top, self.base
+        s = top._sample(wo_w, rng.random((n * S, 3)))
+        total = np.zeros(n * S)
+        if exits_top:  # top-base-top
+            x = top._sample(wi_w, rng.random((n * S, 3)))
+            ok = (s.pdf > 0) & (s.wi[:, 2] < 0) & (x.pdf > 0) & (x.wi[:, 2] < 0)
+            j = np.flatnonzero(ok)
+            a, b = -s.wi[j], -x.wi[j]
+            if self._top_smooth:
+                total[j] = base._pdf(a, b)
+            else:
+                r = base._sample(a, rng.random((len(j), 3)))
+                good = (r.pdf > 0) & (r.wi[:, 2] > 0)
+                t_pdf = top._pdf(-r.wi, wi_w[j])
+                if self._base_smooth:
+                    total[j] = np.where(good, t_pdf, 0.0)
+                else:
+                    r_pdf = base._pdf(a, b)
+                    total[j] = np.where(good, _power(x.pdf[j], r_pdf) * r_pdf
+                                        + _power(r.pdf, t_pdf) * t_pdf, 0.0)
+        else:  # top-base, out of the bottom
+            x = base._sample(wi_w, rng.random((n * S, 3)))
+            ok = (s.pdf > 0) & (s.wi[:, 2] < 0) & (x.pdf > 0) & (x.wi[:, 2] > 0)
+            j = np.flatnonzero(ok)
+            if self._top_smooth:
+                total[j] = base._pdf(-s.wi[j], wi_w[j])
+            elif self._base_smooth:
+                total[j] = top._pdf(wo_w[j], -x.wi[j])
+            else:
+                total[j] = 0.5 * (top._pdf(wo_w[j], -x.wi[j]) + base._pdf(-s.wi[j], wi_w[j]))
+        return total.reshape(n, S).mean(1)
+
+    # -- sample -----------------------------------------------------------------------------
+    def _sample(self, wo, u):
+        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
+        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
+        u = np.broadcast_to(u, batch + (3,)).reshape(-1, 3)
+        wi, weight, pdf, flags = self._walk_sample(wo, u)
+        smooth = np.flatnonzero((flags != 0) & ((flags & _DELTA) == 0))
+        if len(smooth):
+            pdf[smooth] = self._pdf(wo[smooth], wi[smooth])
+        s = finished_sample(wi, weight, pdf, flags)
+        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+
+    def _walk_sample(self, wo, u):
+        """``(wi, weight, pdf, flags)`` of one walk per ``wo`` [Pharr2023, §14.3.2]'s
+        ``LayeredBxDF::Sample_f``; ``pdf`` is the product of the interfaces' densities (the
+        discrete probability of a delta path)."""
+        rng = self._rng(wo, u)
+        s = self.top._sample(wo, u)
+        wi, weight, pdf, flags = s.wi.copy(), s.weight.copy(), s.pdf.copy(), s.flags.copy()
+        through = (s.pdf > 0.0) & (s.wi[:, 2] < 0.0) & (wo[:, 2] > 0.0)
+        wi[through], weight[through], pdf[through], flags[through] = 0.0, 0.0, 0.0, 0
+        flags[wo[:, 2] <= 0.0] = 0
+        idx = np.flatnonzero(through)
+        walks = _Walks(idx, s.weight[idx], s.wi[idx], np.full(len(idx), self.thickness))
+        path_pdf = s.pdf[idx]
+        delta = (s.flags[idx] & _DELTA) != 0
+        albedo = self.medium_albedo
+        for depth in range(self.max_depth):
+            if not len(walks):
+                break
+            if depth > 3:  # Russian roulette
+                m = walks.beta.max(-1)
+                q = np.where(m < 0.25, np.maximum(0.0, 1.0 - m), 0.0)
+                survive = rng.random(len(walks)) >= q
+                walks.beta = walks.beta / np.where(survive, 1.0 - q, 1.0)[:, None]
+                path_pdf = (path_pdf * (1.0 - q))[survive]
+                delta = delta[survive]
+                walks.keep(survive)
+            moving = walks.w[:, 2] != 0.0
+            path_pdf, delta = path_pdf[moving], delta[moving]
+            walks.keep(moving)
+            if not len(walks):
+                break
+            if self._scatters:
+                dz = -np.log1p(-rng.random(len(walks))) * np.abs(walks.w[:, 2])
+                zp = np.where(walks.w[:, 2] > 0.0, walks.z + dz, walks.z - dz)
+                inside = (zp > 0.0) & (zp < self.thickness)
+                j = np.flatnonzero(inside)
+                if len(j):
+                    w_new, p_new = sample_henyey_greenstein(-walks.w[j],
+                                                            rng.random((len(j), 2)), self.g)
+                    walks.beta[j] = walks.beta[j] * albedo
+                    walks.w[j] = w_new
+                    path_pdf[j] = path_pdf[j] * p_new
+                    delta[j] = False
+                stuck = zp == walks.z  # a flight too short to move: drawn again
+                walks.z = np.where(inside, zp, np.clip(zp, 0.0, self.thickness))
+                at = ~inside & ~stuck
+            else:
+                walks.z = np.where(walks.w[:, 2] > 0.0, self.thickness, 0.0)
+                walks.beta = walks.beta * self._transmittance(self.thickness, walks.w)
+                at = np.ones(len(walks), dtype=bool)
+            alive = ~at
+            up = walks.w[:, 2] > 0.0  # the interface reached: the top going up
+            for mask, lobe in ((at & up, self.top), (at & ~up, self.base)):
+                j = np.flatnonzero(mask)
+                if not len(j):
+                    continue
+                w = walks.w[j]
+                bs = lobe._sample(-w, rng.random((len(j), 3)))
+                good = bs.pdf > 0.0
+                out = good & (bs.wi[:, 2] * w[:, 2] > 0.0)  # transmitted: out of the layer
+                beta = walks.beta[j] * bs.weight
+                p = path_pdf[j] * bs.pdf
+                d = delta[j] & ((bs.flags & _DELTA) != 0)
+                o = np.flatnonzero(out)
+                if len(o):
+                    e = walks.pair[j[o]]
+                    wi[e], weight[e], pdf[e] = bs.wi[o], beta[o], p[o]
+                    side = np.where(bs.wi[o][:, 2] > 0.0, int(Flags.REFLECTION), _T)
+                    flags[e] = side | np.where(d[o], _DELTA, int(Flags.GLOSSY))
+                walks.beta[j], walks.w[j] = beta, bs.wi
+                path_pdf[j], delta[j] = p, d
+                alive[j] = good & ~out
+            keep = alive & np.all(np.isfinite(walks.beta), -1)
+            path_pdf, delta = path_pdf[keep], delta[keep]
+            walks.keep(keep)
+        return wi, weight, pdf, flags
+
+    # -- energy -----------------------------------------------------------------------------
+    def _delta_albedo(self, wo):
+        """The energy of the delta walks (the top's mirror reflection; where every path can be
+        a delta, those through the slab too), from ``n_samples`` walks per direction."""
+        if not self.flags & Flags.DELTA:
+            return np.zeros(wo.shape[:-1] + (3,))
+        batch = wo.shape[:-1]
+        w = np.repeat(wo.reshape(-1, 3), self.n_samples, axis=0)
+        wi, weight, _, flags = self._walk_sample(w, self._rng(w).random((len(w), 3)))
+        energy = weight * self._energy_scale_rgb(w, wi)
+        energy = np.where(((flags & _DELTA) != 0)[:, None], energy, 0.0)
+        return energy.reshape(-1, self.n_samples, 3).mean(1).reshape(batch + (3,))
+
+    def _albedo_quadrature(self, wo, tol):
+        raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
+                         "estimate for a LayeredReference; use albedo(method='mc')")
