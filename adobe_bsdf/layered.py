@@ -517,12 +517,15 @@ class LayeredReference(Lobe):
         a delta, those through the slab too), from ``n_samples`` walks per direction."""
         if not self.flags & Flags.DELTA:
             return np.zeros(wo.shape[:-1] + (3,))
-        batch = wo.shape[:-1]
-        w = np.repeat(wo.reshape(-1, 3), self.n_samples, axis=0)
-        wi, weight, _, flags = self._walk_sample(w, self._rng(w).random((len(w), 3)))
-        energy = weight * self._energy_scale_rgb(w, wi)
-        energy = np.where(((flags & _DELTA) != 0)[:, None], energy, 0.0)
-        return energy.reshape(-1, self.n_samples, 3).mean(1).reshape(batch + (3,))
+        flat = wo.reshape(-1, 3)
+        E = np.zeros((len(flat), 3))
+        for a, b in self._blocks(len(flat)):
+            w = np.repeat(flat[a:b], self.n_samples, axis=0)
+            wi, weight, _, flags = self._walk_sample(w, self._rng(w).random((len(w), 3)))
+            energy = weight * self._energy_scale_rgb(w, wi)
+            energy = np.where(((flags & _DELTA) != 0)[:, None], energy, 0.0)
+            E[a:b] = energy.reshape(-1, self.n_samples, 3).mean(1)
+        return E.reshape(wo.shape[:-1] + (3,))
 
     def _albedo_quadrature(self, wo, tol):
         raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "

@@ -260,3 +260,21 @@ def test_bad_lobes():
         LayeredReference("glass", Lambert(0.8))
     with pytest.raises(ValueError, match=r"has parameters of shape \(4,\)"):
         LayeredReference(Dielectric(1.5, 0.3), Lambert(np.full((4, 3), 0.5)))
+
+
+def test_memory_is_bounded_whatever_the_batch():
+    """The walks run in blocks of about ``config`` ``chunk_size``: four times the pairs, the
+    same peak."""
+    import tracemalloc
+
+    layer = LayeredReference(Dielectric(1.5, 0.3), Lambert(0.8), thickness=0.2,
+                             medium_albedo=0.5, n_samples=64)
+    rng = np.random.default_rng(0)
+    peaks = []
+    for n in (2000, 8000):
+        wo, wi = (sph(rng.random(n), 2.0 * np.pi * rng.random(n)) for _ in range(2))
+        tracemalloc.start()
+        layer.eval(wo, wi)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+    assert peaks[1] < 1.2 * peaks[0] + 2e6, peaks
