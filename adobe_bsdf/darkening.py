@@ -14,6 +14,9 @@ Public API
                                 Delta, the darkening of a base of albedo E_b.
 ``base_factor(Delta, delta, T2=1, coverage=1)``
                                 the colour that multiplies the base's BSDF.
+``Darkening(delta=1, base_roughness=1, variant="pr253", base_albedo=None)``
+                                the darkening as a parameter of ``composition.Layer``: its
+                                base is multiplied by D(wo) = lerp(1, Delta(wo), delta).
 
 A Lambertian base of albedo E_b under a smooth clear coat reflects, summing the bounces
 between the two, E = F(mu_o) + (1 - F(mu_o)) E_b (1 - K) / (1 - E_b K) [OpenPBR2026,
@@ -28,13 +31,15 @@ released specification's Delta = (1 - K) / (1 - E_b K), with T^2 outside.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.fresnel import _dielectric
 
 __all__ = ["fresnel_average", "fresnel_average_fit", "internal_reflectance", "coat_reflectance",
-           "darkening", "base_factor", "VARIANTS"]
+           "darkening", "base_factor", "Darkening", "VARIANTS"]
 
 #: the darkening formulas: [Portsmouth2025] (T^2 inside) and [OpenPBR2026] (outside)
 VARIANTS = ("pr253", "v1.1.1")
@@ -84,7 +89,12 @@ def coat_reflectance(eta, base_roughness, cos_theta=1.0) -> np.ndarray:
     eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
     r = _params.real("base_roughness", base_roughness, 0.0, 1.0)
     c = _params.real("cos_theta", cos_theta, 0.0, 1.0)
-    return (1.0 - r) * _dielectric(c, eta) + r * internal_reflectance(eta)
+    return _coat_reflectance(eta, r, c, internal_reflectance(eta))
+
+
+def _coat_reflectance(eta, r, c, K_rough):
+    """``coat_reflectance`` of validated arrays, ``K_rough`` its ``internal_reflectance``."""
+    return (1.0 - r) * _dielectric(c, eta) + r * K_rough
 
 
 def darkening(E_b, K, T2=1.0, variant: str = "pr253") -> np.ndarray:
@@ -97,6 +107,11 @@ def darkening(E_b, K, T2=1.0, variant: str = "pr253") -> np.ndarray:
     K = np.asarray(_params.real("K", K, 0.0, 1.0))[..., None]
     T2 = _params.color("T2", T2, 0.0, 1.0)
     _params.choice("variant", variant, VARIANTS)
+    return _darkening(E_b, K, T2, variant)
+
+
+def _darkening(E_b, K, T2, variant):
+    """``darkening`` of validated arrays (``K`` with a trailing axis of 1 or 3)."""
     loop = K * E_b * (T2 if variant == "pr253" else 1.0)
     den = 1.0 - loop
     return np.where(den > 0.0, (1.0 - K) / np.where(den > 0.0, den, 1.0), 1.0)
@@ -110,4 +125,58 @@ def base_factor(Delta, delta, T2=1.0, coverage=1.0) -> np.ndarray:
     delta = np.asarray(_params.real("delta", delta, 0.0, 1.0))[..., None]
     T2 = _params.color("T2", T2, 0.0, 1.0)
     C = np.asarray(_params.real("coverage", coverage, 0.0, 1.0))[..., None]
-    return 1.0 + C * ((1.0 + delta * (Delta - 1.0)) * T2 - 1.0)
+    return 1.0 + C * (_lerp_from_one(Delta, delta) * T2 - 1.0)
+
+
+def _lerp_from_one(x, t):
+    """lerp(1, x, t) = 1 + t (x - 1)."""
+    return 1.0 + t * (x - 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class Darkening:
+    """Coat darkening as a parameter of ``composition.Layer`` [OpenPBR2026, §Coat darkening;
+    Portsmouth2025]: the layer's base is multiplied by
+
+        D(wo) = lerp(1, Delta(E_b, K(wo), T2, variant), delta),
+        K(wo) = coat_reflectance(eta_c, base_roughness, |cos theta_o|),
+
+    with eta_c the top's index and T2 the layer's two-way transmittance at normal incidence.
+    0 <= D <= 1 (Delta is, for E_b T2 <= 1): darkening never adds energy; delta = 0 is no
+    darkening, a white base (E_b = 1, T2 grey) is darkened without a shift of hue.
+
+    Attributes
+    ----------
+    delta : array_like in [0, 1]
+        coat_darkening.
+    base_roughness : array_like in [0, 1]
+        r_b: K from the smooth base's estimate F(wo, eta_c) (0) to the rough one's internal
+        reflectance (1).
+    variant : one of ``VARIANTS``
+    base_albedo : colour in [0, 1] or None
+        E_b; None: the base's own energy albedo at normal incidence (its table where it has
+        one, else a quadrature), computed once by the layer.
+    """
+
+    delta: object = 1.0
+    base_roughness: object = 1.0
+    variant: str = "pr253"
+    base_albedo: object = None
+
+    def __post_init__(self):
+        checked = {"delta": _params.real("delta", self.delta, 0.0, 1.0),
+                   "base_roughness": _params.real("base_roughness", self.base_roughness,
+                                                  0.0, 1.0),
+                   "variant": _params.choice("variant", self.variant, VARIANTS),
+                   "base_albedo": (None if self.base_albedo is None else
+                                   _params.color("base_albedo", self.base_albedo, 0.0, 1.0))}
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+    def factor(self, eta, cos_theta, E_b, T2, K_rough) -> np.ndarray:
+        """D ``(..., 3)`` at the validated |cos theta_o| ``cos_theta`` under a coat of index
+        ``eta`` with internal reflectance ``K_rough`` (``internal_reflectance(eta)``), over a
+        base of albedo ``E_b`` with the two-way transmittance ``T2`` (colours in [0, 1])."""
+        K = _coat_reflectance(eta, self.base_roughness, cos_theta, K_rough)
+        Delta = _darkening(E_b, K[..., None], T2, self.variant)
+        return _lerp_from_one(Delta, self.delta[..., None])
