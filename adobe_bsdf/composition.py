@@ -5,10 +5,12 @@ Public API
 ----------
 ``Sum(*lobes, weights=None)``      f = sum_k w_k f_k, sampled as a mixture (one interface).
 ``Mix(a, b, weight)``              OpenPBR's mix, (1 - w) f_a + w f_b.
-``Layer(top, base, coverage=1, transmittance=None, scaling="albedo")``
+``Layer(top, base, coverage=1, transmittance=None, scaling="albedo", darkening=None)``
                                    ``top`` over ``base`` by albedo scaling (below).
+``SCALINGS``                       its forms: "albedo", "reciprocal", "transmittance".
 ``reciprocal_normalisation(top, base, t)``
                                    C of the reciprocal scaling.
+``coat_absorption(color, eta, w)`` one-way transmittance of an absorbing coat along ``w``.
 ``Rotated(lobe, phi)``             ``lobe`` turned about the normal.
 ``Wrapper``                        base of a lobe built around one inner lobe: forwards every
                                    hook of ``bsdf.HOOKS`` to it (``Rotated``, materials).
@@ -18,36 +20,64 @@ Public API
 
 Layering
 --------
-This is the non-reciprocal albedo scaling of OpenPBR ([Andersson2023, §Layering], the
-"general albedo scaling" equation, with a coverage c as [OpenPBR2026, §Layering] writes it) and
-of the sheen and coat of the ASM [Kutz2021, §6-7]: the energy the top layer reflects,
-E_top(wo), is taken from what reaches the base, and t(w) is a one-way transmittance of the top
-layer's medium (the coat's absorption). With E_top, E_base <= 1 and t <= 1,
+OpenPBR layers a top lobe of coverage c over a base by albedo scaling
+([Andersson2023, §Layering], with the coverage as [OpenPBR2026, §Layering] writes it; the
+sheen and coat of the ASM [Kutz2021, §6-7]): the energy the top reflects, E_top(w), is taken
+from what reaches the base. With a two-way transmittance tau(wo, wi) <= 1 of the top's medium
+(the coat's absorption) and D(wo) <= 1 its darkening (below; 1 without), the three forms are
 
-    E(wo) = c E_top + (1 - c) E_base + c t(wo) (1 - E_top) int t(wi) f_base |cos| <= 1,
+    "albedo"         f = c f_top + lerp(1, tau (1 - E_top(wo)) D(wo), c) f_base,
+    "transmittance"  the same with tau = T_coat(wo, wi) = T^((1/mu_o^t + 1/mu_i^t) / 2),
+    "reciprocal"     f = c f_top + lerp(1, C tau (1 - E_top(wi)) (1 - E_top(wo)), c) f_base.
 
-and with a white base and t = 1 the layer keeps all the energy (the white furnace).
+``transmittance`` gives tau: None is 1; a colour T in [0, 1] (the two-way transmittance at
+normal incidence, v1.1.1's coat_color) is the constant tau = T in "albedo" and "reciprocal";
+a callable t(w) is a one-way transmittance, tau = t(wo) t(wi) (the ASM's
+``CoatTransmittance``). "transmittance" is the general albedo scaling of [Andersson2023,
+§Layering]: a colour T made view dependent by the path through a coat of index eta_c = the
+top's ``eta``, mu^t = sqrt(1 - (1 - mu^2) / eta_c^2) the refracted cosine, so that tau = T at
+normal incidence and darker at grazing angles (``coat_absorption``: t(w) = T^(1 / (2 mu^t))).
 
-This form is the default: the ASM's "albedo scaling technique" and OpenPBR v1.1.1 both use it.
-Its non-reciprocity, f(wo, wi) - f(wi, wo) = c t t (E_top(wi) - E_top(wo)) f_base, is measured
-in ``docs/asm_measured.md``. ``scaling="reciprocal"`` is the reciprocal form of
-[Andersson2023, §Layering], c C t(wo) t(wi) (1 - E_top(wi)) (1 - E_top(wo)) f_base, with its
-normalisation C from an integral of the base weighted by 1 - E_top, computed once per layer
-by ``reciprocal_normalisation`` (no table: it differs for every base): the largest C that
+Energy: with E_top, E_base, tau, D <= 1,
+
+    E(wo) = c E_top + (1 - c) E_base + c (1 - E_top(wo)) D(wo) int tau f_base |cos| <= 1
+
+in "albedo" and "transmittance", and a white base with tau = 1 and no darkening keeps all the
+energy (the white furnace; "transmittance" at T = 1 is "albedo", bit for bit). Neither is
+reciprocal: f(wo, wi) - f(wi, wo) = c tau (E_top(wi) - E_top(wo)) f_base (tau is symmetric;
+with darkening, D (1 - E_top) at wi against wo), measured in ``docs/asm_measured.md`` and by
+``python -m adobe_bsdf check``. "reciprocal" is reciprocal where the base is; its
+normalisation C, computed once per layer by ``reciprocal_normalisation`` from an integral of
+the base weighted by 1 - E_top (no table: it differs for every base), is the largest that
 never gains energy, so the white furnace holds exactly over a Lambertian base and a glossy
 base loses some energy.
+
+"albedo" is the default: OpenPBR v1.1.1 [OpenPBR2026, §Coat] and the ASM use it, it is exact
+in the white furnace over any base, and the reciprocal form loses energy over glossy bases.
+
+Coat darkening ([OpenPBR2026, §Coat darkening; Portsmouth2025], ``darkening.Darkening``):
+D(wo) = lerp(1, Delta(E_b, K(wo), T2), delta), the light the coat reflects back onto the base
+and the base absorbs, with E_b the base's albedo, K(wo) the coat's internal reflectance
+(``darkening.coat_reflectance`` at eta_c and |cos theta_o|) and T2 = tau at normal incidence;
+over a smooth clear coat (E_top = 0 under it) the base's factor is the specification's
+lerp(1, lerp(1, Delta, delta) T^2, c). D depends on wo alone, so it is not offered with
+"reciprocal": there C, recomputed with D, would cancel it (exactly over a Lambertian base
+with K constant), and D(wo) alone breaks the reciprocity the form exists for.
 """
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf import darkening as dk
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
-__all__ = ["Sum", "Mix", "Layer", "SCALINGS", "reciprocal_normalisation", "Rotated", "Wrapper",
-           "choose", "sample_where"]
+__all__ = ["Sum", "Mix", "Layer", "SCALINGS", "reciprocal_normalisation", "coat_absorption",
+           "Rotated", "Wrapper", "choose", "sample_where"]
 
 #: full coverage, the default of ``Layer``
 _FULL = np.asarray(1.0)
@@ -319,7 +349,16 @@ class Mix(Sum):
 
 
 class Layer(Lobe):
-    """``top`` over ``base`` by albedo scaling (module docstring).
+    """``top`` over ``base`` by albedo scaling, in one of the forms of ``SCALINGS`` (module
+    docstring):
+
+        "albedo"         c f_top + lerp(1, tau (1 - E_top(wo)) D(wo), c) f_base,
+        "transmittance"  the same with tau = T_coat(wo, wi) = T^((1/mu_o^t + 1/mu_i^t) / 2),
+        "reciprocal"     c f_top + lerp(1, C tau (1 - E_top(wi)) (1 - E_top(wo)), c) f_base.
+
+    "albedo" (the default: OpenPBR v1.1.1 and the ASM) and "transmittance" keep all the
+    energy of a white base under a clear coat (the white furnace) and are not reciprocal;
+    "reciprocal" is, and loses energy over a glossy base. No form gains energy.
 
     Parameters
     ----------
@@ -328,11 +367,17 @@ class Layer(Lobe):
         they would underestimate (an anisotropic coat), a quadrature.
     coverage : array_like in [0, 1]
         c, how much of the surface the top layer covers (the ASM coat's opacity).
-    transmittance : callable or None
-        ``transmittance(w) -> (..., 3)``, t(w) in [0, 1]; None is 1.
-    scaling : {"albedo", "reciprocal"}
-        The albedo-scaling form (module docstring); "reciprocal" needs scalar lobe
-        parameters (C is one colour per layer) and has no table albedo.
+    transmittance : None, colour in [0, 1] or callable
+        tau: None is 1; a colour T (scalar or ``(..., 3)``) the two-way transmittance at
+        normal incidence (constant in "albedo" and "reciprocal", T_coat in
+        "transmittance", which requires one); a callable ``t(w) -> (..., 3)`` in [0, 1] a
+        one-way transmittance, tau = t(wo) t(wi).
+    scaling : one of ``SCALINGS``
+        "reciprocal" needs scalar lobe parameters (C is one colour per layer) and has no
+        table albedo; "transmittance" and ``darkening`` need the top's index eta_c
+        (``top.eta``, one per point).
+    darkening : darkening.Darkening or None
+        Coat darkening D(wo) (module docstring); not with "reciprocal".
 
     Notes
     -----
@@ -340,38 +385,76 @@ class Layer(Lobe):
     with lum(W(wo, wo')) times the base's albedo estimate (wo' the mirror of wo), and weighs
     non-delta samples by the one-sample balance heuristic, as ``Sum``. The base's delta
     branches (a smooth interface) carry W at their own direction; their closed-form energy
-    (``albedo``) uses t(wi) = t(wo), exact for mirror reflection. The table albedo makes the
-    same approximation for the base's whole lobe; it is exact where t = 1.
+    (``albedo``) uses tau(wo, wo), exact for mirror reflection. The table albedo makes the
+    same approximation for the base's whole lobe (a view-dependent tau of "transmittance" or
+    a callable); it is exact where tau is constant (T = 1 included). ``exit_weight`` (emission
+    from below) passes the top once: one-way t(wo), or sqrt(T) for a constant colour, and no
+    darkening.
     """
 
     def __init__(self, top: Lobe, base: Lobe, coverage=1.0, transmittance=None,
-                 scaling: str = "albedo"):
+                 scaling: str = "albedo", darkening=None):
         if not isinstance(top, Lobe) or not isinstance(base, Lobe):
             raise ValueError(f"top = {top!r}, base = {base!r}: a Layer takes two lobes")
-        if transmittance is not None and not callable(transmittance):
-            raise ValueError(f"transmittance = {transmittance!r}: allowed None or a callable")
         _params.choice("scaling", scaling, SCALINGS)
+        if transmittance is not None and not callable(transmittance):
+            transmittance = _params.color("transmittance", transmittance, 0.0, 1.0)
+        if scaling == "transmittance" and (transmittance is None or callable(transmittance)):
+            raise ValueError(f"transmittance = {transmittance!r} with scaling = "
+                             "'transmittance': allowed a colour in [0, 1] (the coat's two-way "
+                             "transmittance at normal incidence)")
+        if darkening is not None and not isinstance(darkening, dk.Darkening):
+            raise ValueError(f"darkening = {darkening!r}: allowed None or a "
+                             "darkening.Darkening")
+        if scaling == "transmittance" or darkening is not None:
+            if top.eta is None or top.eta_per_channel:
+                raise ValueError(f"top = {top!r} has no single interface index (eta = "
+                                 f"{top.eta!r}); scaling = 'transmittance' and darkening "
+                                 "need the coat's index: allowed a top with an interface "
+                                 "(e.g. DielectricReflection)")
         if scaling == "reciprocal":
+            if darkening is not None:
+                raise ValueError(f"darkening = {darkening!r} with scaling = 'reciprocal': "
+                                 "D(wo) depends on wo alone, which breaks reciprocity, and "
+                                 "the normalisation C recomputed with it would cancel it; "
+                                 "allowed: darkening with scaling 'albedo' or "
+                                 "'transmittance'")
             for name, lobe in (("top", top), ("base", base)):
                 if lobe._param_shape() != ():
                     raise ValueError(f"scaling = 'reciprocal' with {name} = {lobe!r}: its "
                                      "normalisation C is one number per layer; allowed: lobes "
                                      "whose parameters are scalars (not textures)")
         self._init(top, base, _params.real("coverage", coverage, 0.0, 1.0), transmittance,
-                   scaling)
+                   scaling, darkening)
 
-    def _init(self, top, base, coverage=_FULL, transmittance=None, scaling="albedo"):
+    def _init(self, top, base, coverage=_FULL, transmittance=None, scaling="albedo",
+              darkening=None):
         self.top, self.base = top, base
         self.coverage = coverage
         self.transmittance = transmittance
         self.scaling = scaling
+        self.darkening = darkening
+        #: the one-way transmittance t(w) (None: 1) and the constant two-way one T (None: 1)
+        self._one_way, self._T = None, None
+        if callable(transmittance):
+            self._one_way = transmittance
+        elif transmittance is not None and scaling == "transmittance":
+            self._one_way = partial(coat_absorption, transmittance, np.asarray(top.eta))
+        else:
+            self._T = transmittance
         #: the reciprocal form's normalisation C ``(3,)`` and its standard error (None
         #: until first needed; ``reciprocal_normalisation``)
         self._C = None
+        #: the darkening's constants (eta_c, K of a rough base, E_b, T2), once per layer
+        self._dark = None if darkening is None else self._darkening_constants()
         self.flags = top.flags | base.flags
 
     def __repr__(self) -> str:
         extra = "" if self.scaling == "albedo" else f", scaling={self.scaling!r}"
+        if self.transmittance is not None:
+            extra += f", transmittance={self.transmittance!r}"
+        if self.darkening is not None:
+            extra += f", darkening={self.darkening!r}"
         return f"Layer({self.top!r}, {self.base!r}, coverage={self.coverage!r}{extra})"
 
     @property
@@ -393,34 +476,77 @@ class Layer(Lobe):
 
     def exit_weight(self, wo):
         """(1 - c) + c t(wo) (1 - E_top(wo)) ``(..., 3)``: the share of light leaving the base
-        towards ``wo`` that passes the top layer once (emission from below it)."""
-        return (1.0 - self.coverage)[..., None] + self._scaled(wo)[0]
+        towards ``wo`` that passes the top layer once (emission from below it); t is sqrt(T)
+        for a constant colour T, and darkening does not enter."""
+        one_way = self._t(wo) if self._T is None else self._t(wo) * np.sqrt(self._T)
+        return ((1.0 - self.coverage)[..., None]
+                + self.coverage[..., None] * one_way * (1.0 - self._top_energy(wo)))
 
     def _param_shape(self):
-        shapes = (self.top._param_shape(), self.base._param_shape())
-        if any(s is None for s in shapes) or self.transmittance is not None:
+        shapes = [self.top._param_shape(), self.base._param_shape()]
+        if any(s is None for s in shapes) or callable(self.transmittance):
             return None
-        return np.broadcast_shapes(*shapes, self.coverage.shape)
+        shapes.append(self.coverage.shape)
+        if self.transmittance is not None:
+            shapes.append(self.transmittance.shape[:-1])
+        if self.darkening is not None:
+            d = self.darkening
+            shapes += [d.delta.shape, d.base_roughness.shape, self._dark[2].shape[:-1]]
+        return np.broadcast_shapes(*shapes)
 
     # -- the weights ------------------------------------------------------------------------
     def _t(self, w):
-        return 1.0 if self.transmittance is None else self.transmittance(w)
+        return 1.0 if self._one_way is None else self._one_way(w)
+
+    def _darkening_constants(self):
+        """(eta_c, internal_reflectance(eta_c), E_b, T2) of the darkening: E_b the given
+        base albedo or the base's own at normal incidence (its table, else a quadrature to
+        ``DARKENING_ALBEDO_TOL``), at most 1; T2 = tau at normal incidence."""
+        eta = np.asarray(self.top.eta, dtype=np.float64)
+        E_b = self.darkening.base_albedo
+        if E_b is None:
+            try:
+                E_b = self.base.albedo(_NORMAL, method="table")
+            except ValueError:
+                E_b = self.base.albedo(_NORMAL, tol=DARKENING_ALBEDO_TOL)
+            E_b = np.clip(E_b, 0.0, 1.0)  # interpolation or quadrature overshoot
+        if self._one_way is None:
+            T2 = 1.0 if self._T is None else self._T
+        elif self.scaling == "transmittance":
+            T2 = self.transmittance  # T_coat at normal incidence
+        else:
+            T2 = np.minimum(self._one_way(_NORMAL) ** 2, 1.0)
+        return eta, dk.internal_reflectance(eta), E_b, T2
+
+    def _top_energy(self, wo):
+        """E_top(wo), at most 1 (a top albedo above 1 is rounding or interpolation overshoot;
+        the base then gets nothing, never a negative weight)."""
+        return np.minimum(self.top._top_albedo(wo), 1.0)
+
+    def _covered(self, wo, t, E_top):
+        """c t (1 - E_top) T D(wo) ``(..., 3)``: the covered share of the base's weight at
+        ``wo`` before the transmittance towards wi (``t`` the one-way one at wo)."""
+        scaled = self.coverage[..., None] * t * (1.0 - E_top)
+        if self._T is not None:
+            scaled = scaled * self._T
+        if self.darkening is not None:
+            eta, K_rough, E_b, T2 = self._dark
+            scaled = scaled * self.darkening.factor(eta, np.abs(wo[..., 2]), E_b, T2, K_rough)
+        return scaled
 
     def _scaled(self, wo):
-        """c t(wo) (1 - E_top(wo)) ``(..., 3)`` and E_top(wo), with E_top at most 1 (a top
-        albedo above 1 is rounding or interpolation overshoot; the base then gets nothing,
-        never a negative weight)."""
-        E_top = np.minimum(self.top._top_albedo(wo), 1.0)
-        return self.coverage[..., None] * self._t(wo) * (1.0 - E_top), E_top
+        """``_covered`` at wo and E_top(wo)."""
+        E_top = self._top_energy(wo)
+        return self._covered(wo, self._t(wo), E_top), E_top
 
     def _weight(self, wo, wi, scaled, E_top_i=None):
-        """W(wo, wi) = (1 - c) + c t(wo) t(wi) (1 - E_top(wo)) ``(..., 3)``, times
-        C (1 - E_top(wi)) in the reciprocal form; ``E_top_i`` is E_top(wi) where the caller
-        has it (wi = wo or its mirror, whose albedo is wo's)."""
+        """W(wo, wi) = (1 - c) + scaled t(wi) ``(..., 3)``, times C (1 - E_top(wi)) in the
+        reciprocal form; ``E_top_i`` is E_top(wi) where the caller has it (wi = wo or its
+        mirror, whose albedo is wo's)."""
         base = scaled * self._t(wi)
         if self.scaling == "reciprocal":
             if E_top_i is None:
-                E_top_i = np.minimum(self.top._top_albedo(wi), 1.0)
+                E_top_i = self._top_energy(wi)
             base = base * self.normalisation[0] * (1.0 - E_top_i)
         return (1.0 - self.coverage)[..., None] + base
 
@@ -495,12 +621,12 @@ class Layer(Lobe):
                              "weighted by 1 - E_top(wi), which no table holds; use albedo "
                              "method 'quadrature' or 'mc'")
         E_top, err_top = self.top._albedo_table(wo, with_error)
-        E_top = np.minimum(E_top, 1.0)  # as ``_scaled``
+        E_top = np.minimum(E_top, 1.0)  # as ``_top_energy``
         E_base, err_base = self.base._albedo_table(wo, with_error)
         c = self.coverage[..., None]
-        W = (1.0 - c) + c * self._t(wo) ** 2 * (1.0 - E_top)
+        W = (1.0 - c) + self._covered(wo, self._t(wo) ** 2, E_top)  # tau(wo, wo) for tau
         value = c * E_top + W * E_base
-        # |d value / d E_top| = c |1 - t^2 E_base| <= c
+        # |d value / d E_top| = c |1 - tau T D E_base| <= c
         return value, (c * err_top + W * err_base) if with_error else None
 
     def _sampling_weight(self, wo):
@@ -516,8 +642,12 @@ class Layer(Lobe):
         return self.base._energy_scale_rgb(wo, wi)
 
 
-#: the albedo-scaling forms of ``Layer``
-SCALINGS = ("albedo", "reciprocal")
+#: the albedo-scaling forms of ``Layer`` (module docstring)
+SCALINGS = ("albedo", "reciprocal", "transmittance")
+#: the normal, where ``Layer`` takes the darkening's base albedo and T2
+_NORMAL = np.array([0.0, 0.0, 1.0])
+#: ``tol`` of the quadrature of the darkening's base albedo E_b (a base without a table)
+DARKENING_ALBEDO_TOL = 1e-6
 
 #: Gauss–Legendre cosines and azimuths of wo, and scrambled-Sobol samples of wi per wo, of
 #: ``reciprocal_normalisation``
@@ -558,6 +688,26 @@ def reciprocal_normalisation(top: Lobe, base: Lobe, t=lambda w: 1.0, seed: int =
     each = inner.max(1)
     spread = np.where(each > 0.0, 1.0 / np.where(each > 0.0, each, 1.0), 1.0).std(0, ddof=1)
     return C, spread / 2.0
+
+
+def coat_absorption(color, eta, w) -> np.ndarray:
+    """One-way transmittance t(w) = color ** (1 / (2 mu_t)) ``(..., 3)`` of an absorbing coat
+    of index ``eta`` along the validated direction ``w``, mu_t = sqrt(1 - (1 - mu^2) / eta^2)
+    the refracted cosine of |mu| = |cos theta| (0 beyond a critical angle, eta < 1: there t
+    is 0 unless ``color`` is 1).
+
+    Beer's law exp(-sigma d / mu_t) with sigma d fixed so that the way in and out at normal
+    incidence gives ``color`` (the two-way transmittance T, in [0, 1], already validated): the
+    pair t(wo) t(wi) = T^((1/mu_o^t + 1/mu_i^t) / 2) is T at normal incidence, darker at
+    grazing angles, symmetric in wo and wi [Kutz2021, §7; Andersson2023, §Layering]. Where T
+    is 1 (or 0), t is exactly 1 (or 0)."""
+    mu = np.abs(np.asarray(w)[..., 2])
+    mu_t = np.sqrt(np.maximum(1.0 - (1.0 - mu * mu) / (eta * eta), 0.0))
+    with np.errstate(divide="ignore"):
+        exponent = np.where(mu_t > 0.0, 0.5 / mu_t, np.inf)  # mu_t = 0: grazing, eta <= 1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = color ** exponent[..., None]
+    return np.where(color == 1.0, 1.0, np.where(color == 0.0, 0.0, t))
 
 
 class Rotated(Wrapper):

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, tables
+from adobe_bsdf.composition import coat_absorption
 
 __all__ = ["asm_alpha", "table_roughness", "anisotropy_rotation", "base_ior_under_coat",
            "CoatTransmittance", "coat_transmittance", "COAT_IOR_RANGE"]
@@ -92,7 +93,8 @@ class CoatTransmittance(_params.Validated):
     refracted cosine mu_t = sqrt(1 - (1 - mu^2) / coat_ior^2): t = exp(-sigma d / mu_t). The
     ASM's coat colour is "the colour that should be reached by volumetric absorption"
     [Kutz2021, §7]: we fix sigma d so that the way in and out at normal incidence gives it,
-    exp(-2 sigma d) = coat_color, hence
+    exp(-2 sigma d) = coat_color, hence (``composition.coat_absorption``, which OpenPBR's
+    ``Layer(scaling="transmittance")`` shares)
 
         t(w) = coat_color ** (1 / (2 mu_t(w))).
 
@@ -124,14 +126,7 @@ class CoatTransmittance(_params.Validated):
         if not self.view_dependent:
             return np.broadcast_to(np.sqrt(color), np.broadcast_shapes(color.shape,
                                                                        np.shape(w)[:-1] + (3,)))
-        eta = self.eta
-        mu = np.abs(np.asarray(w)[..., 2])
-        mu_t = np.sqrt(1.0 - (1.0 - mu * mu) / (eta * eta))
-        with np.errstate(divide="ignore"):
-            exponent = np.where(mu_t > 0.0, 0.5 / mu_t, np.inf)  # mu_t = 0: grazing, coat_ior 1
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = color ** exponent[..., None]
-        return np.where(color == 1.0, 1.0, np.where(color == 0.0, 0.0, t))
+        return coat_absorption(color, self.eta, w)
 
 
 def coat_transmittance(coat_color, coat_ior, w, view_dependent: bool = True) -> np.ndarray:
