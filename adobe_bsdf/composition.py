@@ -8,7 +8,7 @@ Public API
 ``Layer(top, base, coverage=1, transmittance=None, scaling="albedo", darkening=None)``
                                    ``top`` over ``base`` by albedo scaling (below).
 ``SCALINGS``                       its forms: "albedo", "reciprocal", "transmittance".
-``reciprocal_normalisation(top, base, t)``
+``reciprocal_normalisation(top, base)``
                                    C of the reciprocal scaling.
 ``coat_absorption(color, eta, w)`` one-way transmittance of an absorbing coat along ``w``.
 ``Rotated(lobe, phi)``             ``lobe`` turned about the normal.
@@ -48,9 +48,10 @@ reciprocal: f(wo, wi) - f(wi, wo) = c tau (E_top(wi) - E_top(wo)) f_base (tau is
 with darkening, D (1 - E_top) at wi against wo), measured in ``docs/asm_measured.md`` and by
 ``python -m adobe_bsdf check``. "reciprocal" is reciprocal where the base is; its
 normalisation C, computed once per layer by ``reciprocal_normalisation`` from an integral of
-the base weighted by 1 - E_top (no table: it differs for every base), is the largest that
-never gains energy, so the white furnace holds exactly over a Lambertian base and a glossy
-base loses some energy.
+the base weighted by 1 - E_top (no table: it differs for every base), is the largest with
+which the layer never reflects more than the albedo form: over a Lambertian base of any colour
+it keeps the albedo form's energy exactly (C = 1 / (1 - E_avg,top), the white furnace holds),
+and over a glossy base it loses some.
 
 "albedo" is the default: OpenPBR v1.1.1 [OpenPBR2026, §Coat] and the ASM use it, it is exact
 in the white furnace over any base, and the reciprocal form loses energy over glossy bases.
@@ -462,7 +463,7 @@ class Layer(Lobe):
         """``(C, error)`` of the reciprocal form, ``(3,)`` each (``reciprocal_normalisation``;
         computed once per layer)."""
         if self._C is None:
-            self._C = reciprocal_normalisation(self.top, self.base, self._t)
+            self._C = reciprocal_normalisation(self.top, self.base)
         return self._C
 
     @property
@@ -654,19 +655,23 @@ DARKENING_ALBEDO_TOL = 1e-6
 NORMALISATION_MU, NORMALISATION_PHI, NORMALISATION_SAMPLES = 24, 8, 1024
 
 
-def reciprocal_normalisation(top: Lobe, base: Lobe, t=lambda w: 1.0, seed: int = 0):
+def reciprocal_normalisation(top: Lobe, base: Lobe, seed: int = 0):
     """``(C, error)``, ``(3,)`` each: the normalisation of the reciprocal albedo scaling
-    [Andersson2023, §Layering], f = f_top + C t t (1 - E_top(wi)) (1 - E_top(wo)) f_base.
+    [Andersson2023, §Layering], f = f_top + C tau (1 - E_top(wi)) (1 - E_top(wo)) f_base.
 
-    Its albedo is E(wo) = E_top(wo) + (1 - E_top(wo)) t(wo) C I(wo) with
-    I(wo) = int t(wi) (1 - E_top(wi)) f_base |cos theta_i| d wi, so C = 1 / max_wo I(wo) (per
-    channel) is the largest constant that never makes a layer gain energy. Over a Lambertian
-    base I is the same at every wo, C = 1 / (rho (1 - E_avg,top)), and a white base keeps all
-    the energy (the white furnace); over a glossy base the layer loses some where I(wo) is
-    below its maximum. The maximum is taken over ``NORMALISATION_MU`` Gauss–Legendre cosines
-    times ``NORMALISATION_PHI`` azimuths of wo, each I from ``NORMALISATION_SAMPLES``
+    Its albedo is E(wo) = E_top(wo) + (1 - E_top(wo)) C I(wo) with tau = 1 and
+    I(wo) = int (1 - E_top(wi)) f_base |cos theta_i| d wi. C = min_wo E_base(wo) / I(wo) (per
+    channel) is the largest constant with which the layer never reflects more than the
+    albedo form's E_top + (1 - E_top) E_base <= 1, whatever the base's colour: over a
+    Lambertian base of any albedo rho, I = rho (1 - E_avg,top) and E_base = rho at every wo, so
+    C = 1 / (1 - E_avg,top) [Kelemen2001], and the layer keeps the base's albedo (a white base
+    keeps all the energy: the white furnace); over a glossy base it loses some where
+    E_base / I is above its minimum. A transmittance tau <= 1 only lowers E, so C does not
+    depend on it. The minimum is taken over ``NORMALISATION_MU`` Gauss–Legendre cosines times
+    ``NORMALISATION_PHI`` azimuths of wo, E_base and I from the same ``NORMALISATION_SAMPLES``
     scrambled-Sobol samples of the base's own sampler, averaged over 4 independent
-    scramblings; ``error`` is their spread in C divided by 2 (one standard error)."""
+    scramblings; ``error`` is their spread in C divided by 2 (one standard error). A channel
+    the base never reflects has C = 1 (it multiplies 0)."""
     from scipy.stats import qmc
 
     x, _ = np.polynomial.legendre.leggauss(NORMALISATION_MU)
@@ -676,18 +681,24 @@ def reciprocal_normalisation(top: Lobe, base: Lobe, t=lambda w: 1.0, seed: int =
     s = np.sqrt(1.0 - M * M)
     wo = np.stack([s * np.cos(P), s * np.sin(P), M], -1).reshape(-1, 1, 3)
     wo = np.broadcast_to(wo, (len(wo), NORMALISATION_SAMPLES, 3))
-    inner = []  # I(wo)
+    energy, inner = [], []  # E_base(wo), I(wo)
     for k in range(4):
         u = qmc.Sobol(3, scramble=True, seed=seed + k).random(NORMALISATION_SAMPLES)
         sample = base.sample(wo, u)  # (wo, sample)
-        g = sample.weight * t(sample.wi) * base._energy_scale_rgb(wo, sample.wi)
+        g = sample.weight * base._energy_scale_rgb(wo, sample.wi)
+        energy.append(g.mean(1))
         inner.append((g * (1.0 - np.minimum(top._top_albedo(sample.wi), 1.0))).mean(1))
-    inner = np.array(inner)  # (scrambling, wo, 3)
-    peak = inner.mean(0).max(0)
-    C = np.where(peak > 0.0, 1.0 / np.where(peak > 0.0, peak, 1.0), 1.0)
-    each = inner.max(1)
-    spread = np.where(each > 0.0, 1.0 / np.where(each > 0.0, each, 1.0), 1.0).std(0, ddof=1)
-    return C, spread / 2.0
+    energy, inner = np.array(energy), np.array(inner)  # (scrambling, wo, 3)
+
+    def smallest_ratio(E, I):
+        """min over wo (axis -2) of E / I, ignoring directions where I = 0; 1 if none."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(I > 0.0, E / np.where(I > 0.0, I, 1.0), np.inf)
+        least = ratio.min(-2)
+        return np.where(np.isfinite(least), least, 1.0)
+
+    C = smallest_ratio(energy.mean(0), inner.mean(0))
+    return C, smallest_ratio(energy, inner).std(0, ddof=1) / 2.0
 
 
 def coat_absorption(color, eta, w) -> np.ndarray:

@@ -42,12 +42,11 @@ def _average_top_albedo(top, n=96):
 
 @pytest.mark.parametrize(("eta", "alpha"), COATS)
 def test_normalisation_over_lambert_is_the_closed_form(eta, alpha):
-    """Over a Lambertian base of albedo rho, I(wo) = rho (1 - E_avg) at every wo, so
-    C = 1 / (rho (1 - E_avg)), per channel."""
+    """Over a Lambertian base of albedo rho, I(wo) = rho (1 - E_avg) and E_base = rho at every
+    wo, so C = 1 / (1 - E_avg) in every channel, whatever rho."""
     layer = _layer(eta, alpha, "coloured")
     C, error = layer.normalisation
-    rho = np.array([0.9, 0.5, 0.2])
-    expected = 1.0 / (rho * (1.0 - _average_top_albedo(layer.top)))
+    expected = np.full(3, 1.0 / (1.0 - _average_top_albedo(layer.top)))
     assert np.all(np.abs(C - expected) <= 5.0 * error + 1e-6 * expected), (C, expected, error)
 
 
@@ -126,3 +125,15 @@ def test_bad_input():
         Layer(top, Lambert(np.full((4, 3), 0.5)), scaling="reciprocal")
     with pytest.raises(ValueError, match="no table"):
         Layer(top, base, scaling="reciprocal").albedo(_wo(np.array([0.5])), method="table")
+
+
+@pytest.mark.parametrize(("eta", "alpha"), COATS)
+def test_a_coloured_lambertian_base_keeps_its_colour(eta, alpha):
+    """Over a Lambertian base of albedo rho the reciprocal layer reflects what the albedo form
+    does, E_top + (1 - E_top) rho, at every wo: C normalises the coat's share, not the base's
+    colour."""
+    layer = _layer(eta, alpha, "coloured")
+    wo = _wo(COSINES)
+    E_top = layer.top.albedo(wo, method="table")
+    expected = E_top + (1.0 - E_top) * np.array([0.9, 0.5, 0.2])
+    np.testing.assert_allclose(layer.albedo(wo, tol=1e-6), expected, rtol=0, atol=FURNACE_TOL)
