@@ -690,10 +690,11 @@ def reciprocal_normalisation(top: Lobe, base: Lobe, seed: int = 0):
         inner.append((g * (1.0 - np.minimum(top._top_albedo(sample.wi), 1.0))).mean(1))
     energy, inner = np.array(energy), np.array(inner)  # (scrambling, wo, 3)
 
-    def smallest_ratio(E, I):
-        """min over wo (axis -2) of E / I, ignoring directions where I = 0; 1 if none."""
+    def smallest_ratio(E, inside):
+        """min over wo (axis -2) of E / I (``inside``), ignoring directions where I = 0; 1 if
+        none."""
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(I > 0.0, E / np.where(I > 0.0, I, 1.0), np.inf)
+            ratio = np.where(inside > 0.0, E / np.where(inside > 0.0, inside, 1.0), np.inf)
         least = ratio.min(-2)
         return np.where(np.isfinite(least), least, 1.0)
 
