@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from adobe_bsdf import fresnel
-from adobe_bsdf.composition import Mix, Rotated, Sum
+from adobe_bsdf.composition import Layer, Mix, Rotated, Sum
+from adobe_bsdf.darkening import Darkening
 from adobe_bsdf.frame import refract
 from adobe_bsdf.lobes import (
     Conductor,
@@ -251,6 +252,19 @@ _CASES = (
     CheckCase("ASM dispersive glass r=0.3",
               lambda: AdobeStandardMaterial(translucency=1.0, roughness=0.3, dispersion=1.0),
               cos_theta_o=(1.0, 0.5, -0.5), tags=_TABLES),
+    # -- the forms of Layer (appended: a case's seeds follow its index)
+    CheckCase("Layer reciprocal DielectricReflection eta=1.5 a=0.3 / diffuse (0.9,0.5,0.2)",
+              lambda: Layer(DielectricReflection(1.5, 0.3), Lambert((0.9, 0.5, 0.2)),
+                            scaling="reciprocal"), cos_theta_o=(1.0, 0.5, 0.1)),
+    CheckCase("Layer transmittance T=(0.9,0.6,0.3) eta=1.5 a=0.2 c=0.9 / diffuse 0.8",
+              lambda: Layer(DielectricReflection(1.5, 0.2), Lambert(0.8), 0.9, (0.9, 0.6, 0.3),
+                            scaling="transmittance"), cos_theta_o=(1.0, 0.5, 0.1),
+              reciprocal=False),
+    CheckCase("Layer albedo darkened eta=1.5 a=0.3 / ConductorMS a=0.3 (0.9,0.5,0.2)",
+              lambda: Layer(DielectricReflection(1.5, 0.3),
+                            ConductorMS(0.3, base_color=(0.9, 0.5, 0.2)),
+                            darkening=Darkening()), cos_theta_o=(1.0, 0.5, 0.1),
+              reciprocal=False),
 )
 
 
