@@ -234,11 +234,13 @@ class Sum(Lobe):
     def _eval_pdf(self, wo, wi):
         return self._eval_pdf_t(wo, wi, None)
 
-    def _eval_pdf_t(self, wo, wi, throughput):
+    def _eval_pdf_t(self, wo, wi, throughput, P=None):
+        """(f, pdf); ``P`` is ``_probabilities(wo)`` where the caller has it already."""
         if not self.components:
             batch = self._batch(wo, wi)
             return np.zeros(batch + (3,)), np.zeros(batch)
-        P = self._probabilities(wo)
+        if P is None:
+            P = self._probabilities(wo)
         f, pdf = None, None
         for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
             fk, pk = c._eval_pdf_t(wo, wi, throughput)
@@ -257,7 +259,8 @@ class Sum(Lobe):
             return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
                               np.full(batch, int(Flags.NONE)))
         wo = np.broadcast_to(wo, batch + (3,))  # one wo for a batch of uniforms
-        k, Pk, u = choose(self._probabilities(wo), u)
+        P = self._probabilities(wo)
+        k, Pk, u = choose(P, u)
         wi = np.zeros(batch + (3,))
         weight = np.zeros(batch + (3,))
         pdf = np.zeros(batch)
@@ -271,7 +274,7 @@ class Sum(Lobe):
             pdf = np.where(chosen, s.pdf, pdf)
             flags = np.where(chosen, s.flags, flags)
         delta = (flags & int(Flags.DELTA)) != 0
-        f, mix_pdf = self._eval_pdf_t(wo, wi, throughput)
+        f, mix_pdf = self._eval_pdf_t(wo, wi, throughput, P)
         smooth_weight = f * np.abs(wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf, 1.0)[..., None]
         weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None],
                           np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
@@ -577,11 +580,13 @@ class Layer(Lobe):
         return (P[0] * self.top._pdf_t(wo, wi, throughput)
                 + P[1] * self.base._pdf_t(wo, wi, throughput))
 
-    def _eval_pdf_t(self, wo, wi, throughput, scaled_top=None):
-        """(f, pdf); ``scaled_top`` is ``_scaled(wo)`` where the caller has it already (the
-        top's albedo can be a quadrature per direction: an anisotropic coat)."""
+    def _eval_pdf_t(self, wo, wi, throughput, scaled_top=None, P=None):
+        """(f, pdf); ``scaled_top`` is ``_scaled(wo)`` and ``P`` the probabilities where the
+        caller has them already (the top's albedo can be a quadrature per direction: an
+        anisotropic coat; the base's sampling weight a table lookup)."""
         scaled, E_top = self._scaled(wo) if scaled_top is None else scaled_top
-        P = self._probabilities(wo, scaled, E_top)
+        if P is None:
+            P = self._probabilities(wo, scaled, E_top)
         f_top, p_top = self.top._eval_pdf_t(wo, wi, throughput)
         f_base, p_base = self.base._eval_pdf_t(wo, wi, throughput)
         with np.errstate(over="ignore"):  # saturated below
@@ -595,14 +600,15 @@ class Layer(Lobe):
         batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
         wo = np.broadcast_to(wo, batch + (3,))
         scaled, E_top = self._scaled(wo)
-        k, P_k, u = choose(self._probabilities(wo, scaled, E_top), u)
+        P = self._probabilities(wo, scaled, E_top)
+        k, P_k, u = choose(P, u)
         s_top = sample_where(self.top, wo, u, throughput, k == 0)
         s_base = sample_where(self.base, wo, u, throughput, k == 1)
         top = (k == 0)[..., None]
         wi = np.where(top, s_top.wi, s_base.wi)
         flags = np.where(k == 0, s_top.flags, s_base.flags)
         delta = (flags & int(Flags.DELTA)) != 0
-        f, pdf = self._eval_pdf_t(wo, wi, throughput, (scaled, E_top))
+        f, pdf = self._eval_pdf_t(wo, wi, throughput, (scaled, E_top), P)
         with np.errstate(divide="ignore", invalid="ignore"):
             weight = f * np.abs(wi[..., 2:3]) / pdf[..., None]
             own = np.where(top, self.coverage[..., None] * s_top.weight,
