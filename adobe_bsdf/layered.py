@@ -268,12 +268,15 @@ class LayeredReference(Lobe):
         x_w = x.weight * exit_._energy_scale_rgb(wi_w, x.wi)  # f(x.wi, wi) |cos| / pdf
         with np.errstate(divide="ignore", invalid="ignore"):
             x_f = x_w / np.abs(x.wi[:, 2:3])  # f(x.wi, wi) / pdf: a slab vertex has no cosine
-        ok = ((s.pdf > 0.0) & (s.wi[:, 2] < 0.0) & (x.pdf > 0.0)
-              & (x.wi[:, 2] * wi_w[:, 2] < 0.0))
-        x_f = np.where(ok[:, None], x_f, 0.0)
-        idx = np.flatnonzero(ok)
+        # a walk goes on whatever x: only the next events along x need it (a reflected x
+        # weighs 0; conditioning the walk on x would bias the other strategy)
+        x_ok = (x.pdf > 0.0) & (x.wi[:, 2] * wi_w[:, 2] < 0.0)
+        x_w, x_f = (np.where(x_ok[:, None], a, 0.0) for a in (x_w, x_f))
+        idx = np.flatnonzero((s.pdf > 0.0) & (s.wi[:, 2] < 0.0))
         walks = _Walks(idx, s.weight[idx], s.wi[idx], np.full(len(idx), top_z))
-        x_wi, x_pdf, x_wt = x.wi, x.pdf, x_w
+        into = np.zeros_like(wi_w)
+        into[:, 2] = -np.sign(wi_w[:, 2])  # a stand-in direction where x failed (weight 0)
+        x_wi, x_pdf, x_wt = np.where(x_ok[:, None], x.wi, into), np.where(x_ok, x.pdf, 0.0), x_w
         x_delta = (x.flags & _DELTA) != 0
         exit_smooth, other_smooth = ((self._top_smooth, self._base_smooth) if exits_top else
                                       (self._base_smooth, self._top_smooth))

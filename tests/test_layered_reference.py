@@ -142,7 +142,9 @@ def _band_integral(layer, wo, lo, hi, n=24):
                      g=-0.3, n_samples=32),
     LayeredReference(Dielectric(1.3, 0.5), Lambert(0.5), thickness=0.5, medium_albedo=0.8,
                      g=0.5, n_samples=32),
-], ids=["smooth coat, rough metal", "smooth coat, scattering slab", "rough coat, slab, Lambert"])
+    LayeredReference(Dielectric(2.0, 0.36), Lambert(1.0), n_samples=32),
+], ids=["smooth coat, rough metal", "smooth coat, scattering slab", "rough coat, slab, Lambert",
+        "rough coat of index 2, white Lambert"])
 def test_eval_agrees_with_sample(layer):
     """The walk's estimate of f (next events weighed by the power heuristic) and the walk
     sampler's weights integrate to the same energy in two bands of mu_i."""
@@ -278,3 +280,26 @@ def test_memory_is_bounded_whatever_the_batch():
         peaks.append(tracemalloc.get_traced_memory()[1])
         tracemalloc.stop()
     assert peaks[1] < 1.2 * peaks[0] + 2e6, peaks
+
+
+def test_eval_keeps_the_energy_of_an_energy_conserving_coat():
+    """int eval |cos| over the hemisphere (the light through the coat) plus the coat's own
+    reflection (its samples) is 1 for a white base under a lossless rough coat of index 2
+    (mostly internally reflected: many bounces), to the coat's tables (2e-3) and the
+    estimates' errors."""
+    top = DielectricMS(2.0, 0.36)
+    layer = LayeredReference(top, Lambert(1.0), n_samples=1024)
+    wo = sph(1.0, 0.0)
+    through, err = _band_integral(layer, wo, 0.0, 1.0)
+    x, w = np.polynomial.legendre.leggauss(24)
+    mu = (x + 1.0) / 2.0
+    M, P = np.meshgrid(mu, (np.arange(24) + 0.5) * 2.0 * np.pi / 24, indexing="ij")
+    wi = sph(M, P).reshape(-1, 3)
+    weight = (w[:, None] / 2.0 * M * 2.0 * np.pi / 24).reshape(-1, 1)
+    through = through - (top.eval(wo, wi) * weight).sum(0)
+    n = 400_000
+    s = top.sample(np.broadcast_to(wo, (n, 3)), np.random.default_rng(7).random((n, 3)))
+    r = np.where(s.wi[:, 2:3] > 0.0, s.weight, 0.0)
+    R, R_err = r.mean(0), r.std(0) / np.sqrt(n)
+    assert np.all(np.abs(through + R - 1.0) <= 2e-3 + SIGMAS * np.hypot(err, R_err)), (
+        through + R, err, R_err)
