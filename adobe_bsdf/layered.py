@@ -437,6 +437,22 @@ class LayeredReference(Lobe):
         s = finished_sample(wi, weight, pdf, flags)
         return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
+    def walk(self, wo, u) -> BSDFSample:
+        """``sample`` without its ``pdf`` estimate: the same walks, directions and weights (an
+        unbiased estimate of f |cos| / pdf, for Monte-Carlo energies), with ``pdf`` the product
+        of the interfaces' densities along the walk (the discrete probability of a delta
+        path). Cheaper than ``sample`` by the ``n_samples`` walks of each estimate."""
+        def walked(wo, u):
+            batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
+            wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
+            u = np.broadcast_to(u, batch + (3,)).reshape(-1, 3)
+            s = finished_sample(*self._walk_sample(wo, u))
+            return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+
+        return self._batched(walked, (
+            (_params.direction_shape("wo", wo), lambda a: _params.check_unit("wo", a)),
+            (_params.uniforms_shape("u", u, 3), lambda a: _params.check_uniform("u", a))))
+
     def _walk_sample(self, wo, u):
         """``(wi, weight, pdf, flags)`` of one walk per ``wo`` [Pharr2023, §14.3.2]'s
         ``LayeredBxDF::Sample_f``; ``pdf`` is the product of the interfaces' densities (the

@@ -303,3 +303,15 @@ def test_eval_keeps_the_energy_of_an_energy_conserving_coat():
     R, R_err = r.mean(0), r.std(0) / np.sqrt(n)
     assert np.all(np.abs(through + R - 1.0) <= 2e-3 + SIGMAS * np.hypot(err, R_err)), (
         through + R, err, R_err)
+
+
+def test_walk_is_sample_without_the_pdf_estimate():
+    layer = LayeredReference(Dielectric(1.5, 0.3), Lambert(0.8), thickness=0.2,
+                             medium_albedo=0.5, n_samples=8)
+    wo = np.broadcast_to(sph(0.7, 0.2), (500, 3))
+    u = np.random.default_rng(9).random((500, 3))
+    s, w = layer.sample(wo, u), layer.walk(wo, u)
+    np.testing.assert_array_equal(w.wi, s.wi)
+    np.testing.assert_array_equal(w.weight, s.weight)
+    np.testing.assert_array_equal(w.flags, s.flags)
+    assert np.all((w.pdf > 0.0) == (s.pdf > 0.0))
