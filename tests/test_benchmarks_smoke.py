@@ -237,3 +237,13 @@ def test_docs_figures_script_draws_every_figure(tmp_path):
     scenes = [f"paper_{name}.png" for name in paper_figures.SCENES]
     for name in ("theory_lobes.png", "theory_furnace.png", "theory_gold.png", *scenes):
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
+
+
+def test_layering_report_writes_its_page(tmp_path):
+    from benchmarks import layering_report
+
+    text = layering_report.run(tmp_path, smoke=True).read_text(encoding="utf-8")
+    for name, _, _ in layering_report.FORMS:
+        assert f"| {name} |" in text
+    assert (tmp_path / "figures" / "layering_albedo.png").exists()
+    assert (tmp_path / "figures" / "layering_slices.png").exists()
