@@ -110,6 +110,24 @@ class _Walks:
     def __len__(self):
         return len(self.pair)
 
+    def roulette(self, rng):
+        """Russian roulette [Pharr2023, §14.3.2]: where max beta < 1/4 a walk ends with
+        probability q = 1 - max beta and a survivor's beta grows by 1 / (1 - q). Returns the
+        survivors' mask and q (the walks are not dropped yet)."""
+        m = self.beta.max(-1)
+        q = np.where(m < 0.25, np.maximum(0.0, 1.0 - m), 0.0)
+        survive = rng.random(len(self)) >= q
+        self.beta = self.beta / np.where(survive, 1.0 - q, 1.0)[:, None]
+        return survive, q
+
+    def flight(self, rng, thickness):
+        """A free flight of unit extinction along w: ``(zp, inside, stuck)``, the height
+        reached, whether it is inside the slab (a scattering event) and whether the flight was
+        too short to move."""
+        dz = -np.log1p(-rng.random(len(self))) * np.abs(self.w[:, 2])
+        zp = np.where(self.w[:, 2] > 0.0, self.z + dz, self.z - dz)
+        return zp, (zp > 0.0) & (zp < thickness), zp == self.z
+
 
 class LayeredReference(Lobe):
     """``top`` over ``base`` with the light followed between them (module docstring): the
@@ -284,20 +302,14 @@ class LayeredReference(Lobe):
         for depth in range(self.max_depth):
             if not len(walks):
                 break
-            if depth > 3:  # Russian roulette
-                m = walks.beta.max(-1)
-                q = np.where(m < 0.25, np.maximum(0.0, 1.0 - m), 0.0)
-                survive = rng.random(len(walks)) >= q
-                walks.beta = walks.beta / np.where(survive, 1.0 - q, 1.0)[:, None]
-                walks.keep(survive)
+            if depth > 3:
+                walks.keep(walks.roulette(rng)[0])
             walks.keep(walks.w[:, 2] != 0.0)
             if not len(walks):
                 break
             k = walks.pair
             if self._scatters:
-                dz = -np.log1p(-rng.random(len(walks))) * np.abs(walks.w[:, 2])
-                zp = np.where(walks.w[:, 2] > 0.0, walks.z + dz, walks.z - dz)
-                inside = (zp > 0.0) & (zp < self.thickness)
+                zp, inside, stuck = walks.flight(rng, self.thickness)
                 if np.any(inside):
                     j = np.flatnonzero(inside)
                     kj, w, beta = k[j], walks.w[j], walks.beta[j]
@@ -320,7 +332,6 @@ class LayeredReference(Lobe):
                                       beta[h] * self._transmittance(zp[j][h] - exit_z, w_new[h])
                                       * f_exit * wt[:, None])
                     walks.beta[j], walks.w[j], walks.z[j] = beta, w_new, zp[j]
-                stuck = zp == walks.z  # a flight too short to move: drawn again
                 walks.z = np.where(inside, walks.z, np.clip(zp, 0.0, self.thickness))
                 at = ~inside & ~stuck
             else:
@@ -471,11 +482,8 @@ class LayeredReference(Lobe):
         for depth in range(self.max_depth):
             if not len(walks):
                 break
-            if depth > 3:  # Russian roulette
-                m = walks.beta.max(-1)
-                q = np.where(m < 0.25, np.maximum(0.0, 1.0 - m), 0.0)
-                survive = rng.random(len(walks)) >= q
-                walks.beta = walks.beta / np.where(survive, 1.0 - q, 1.0)[:, None]
+            if depth > 3:
+                survive, q = walks.roulette(rng)
                 path_pdf = (path_pdf * (1.0 - q))[survive]
                 delta = delta[survive]
                 walks.keep(survive)
@@ -485,9 +493,7 @@ class LayeredReference(Lobe):
             if not len(walks):
                 break
             if self._scatters:
-                dz = -np.log1p(-rng.random(len(walks))) * np.abs(walks.w[:, 2])
-                zp = np.where(walks.w[:, 2] > 0.0, walks.z + dz, walks.z - dz)
-                inside = (zp > 0.0) & (zp < self.thickness)
+                zp, inside, stuck = walks.flight(rng, self.thickness)
                 j = np.flatnonzero(inside)
                 if len(j):
                     w_new, p_new = sample_henyey_greenstein(-walks.w[j],
@@ -496,7 +502,6 @@ class LayeredReference(Lobe):
                     walks.w[j] = w_new
                     path_pdf[j] = path_pdf[j] * p_new
                     delta[j] = False
-                stuck = zp == walks.z  # a flight too short to move: drawn again
                 walks.z = np.where(inside, zp, np.clip(zp, 0.0, self.thickness))
                 at = ~inside & ~stuck
             else:
