@@ -97,8 +97,9 @@ def _specular(lobe: Lobe) -> bool:
 
 
 class _Walks:
-    """The state of a batch of random walks: which pair each serves, its throughput, direction
-    of travel and height in the slab; ``keep`` drops the walks that ended."""
+    """The state of a batch of random walks: each one's row in the caller's arrays (``pair``),
+    its throughput, direction of travel and height in the slab; ``keep`` drops the walks that
+    ended."""
 
     def __init__(self, pair, beta, w, z):
         self.pair, self.beta, self.w, self.z = pair, beta, w, z
@@ -233,6 +234,23 @@ class LayeredReference(Lobe):
         with np.errstate(divide="ignore"):
             return np.exp(-np.abs(dz) / np.abs(w[..., 2]))[..., None]
 
+    @staticmethod
+    def _flat(a, b):
+        """``(batch, a, b)``: two arrays ``(..., 3)`` broadcast together, flattened to
+        ``(n, 3)``."""
+        batch = np.broadcast_shapes(a.shape, b.shape)[:-1]
+        return (batch, *(np.broadcast_to(x, batch + (3,)).reshape(-1, 3) for x in (a, b)))
+
+    def _exit_blocks(self, wo, wi, sides=(True, False)):
+        """``(exits_top, index)``: the pairs entering through the top whose ``wi`` leaves
+        through the top (True) or the base (False), for each of ``sides``, in ``_blocks``."""
+        entering = wo[:, 2] > 0.0
+        for exits_top in sides:
+            chosen = np.flatnonzero(entering & ((wi[:, 2] > 0.0) == exits_top)
+                                    & (wi[:, 2] != 0.0))
+            for a, b in self._blocks(len(chosen)):
+                yield exits_top, chosen[a:b]
+
     def _blocks(self, n):
         """Ranges of pairs whose walks fit in about ``config`` ``chunk_size`` elements."""
         step = max(1, config.get_options().chunk_size // self.n_samples)
@@ -249,21 +267,13 @@ class LayeredReference(Lobe):
         return self._eval_error(wo, wi)[0]
 
     def _eval_error(self, wo, wi):
-        batch = np.broadcast_shapes(wo.shape, wi.shape)[:-1]
-        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
-        wi = np.broadcast_to(wi, batch + (3,)).reshape(-1, 3)
+        batch, wo, wi = self._flat(wo, wi)
         rng = self._rng(wo, wi)
         f = np.zeros((len(wo), 3))
         err = np.zeros((len(wo), 3))
-        entering = wo[:, 2] > 0.0
-        for exits_top in (True, False):
-            chosen = np.flatnonzero(entering & ((wi[:, 2] > 0.0) == exits_top)
-                                    & (wi[:, 2] != 0.0))
-            for a, b in self._blocks(len(chosen)):
-                index = chosen[a:b]
-                mean, se = self._walk_eval(wo[index], wi[index], exits_top, rng)
-                f[index], err[index] = mean, se
-        up = np.flatnonzero(entering & (wi[:, 2] > 0.0))
+        for exits_top, index in self._exit_blocks(wo, wi):
+            f[index], err[index] = self._walk_eval(wo[index], wi[index], exits_top, rng)
+        up = np.flatnonzero((wo[:, 2] > 0.0) & (wi[:, 2] > 0.0))
         if len(up):
             f[up] += self.top._eval(wo[up], wi[up])
         return f.reshape(batch + (3,)), err.reshape(batch + (3,))
@@ -294,7 +304,7 @@ class LayeredReference(Lobe):
         walks = _Walks(idx, s.weight[idx], s.wi[idx], np.full(len(idx), top_z))
         into = np.zeros_like(wi_w)
         into[:, 2] = -np.sign(wi_w[:, 2])  # a stand-in direction where x failed (weight 0)
-        x_wi, x_pdf, x_wt = np.where(x_ok[:, None], x.wi, into), np.where(x_ok, x.pdf, 0.0), x_w
+        x_wi, x_pdf = np.where(x_ok[:, None], x.wi, into), np.where(x_ok, x.pdf, 0.0)
         x_delta = (x.flags & _DELTA) != 0
         exit_smooth, other_smooth = ((self._top_smooth, self._base_smooth) if exits_top else
                                       (self._base_smooth, self._top_smooth))
@@ -351,7 +361,7 @@ class LayeredReference(Lobe):
                     f_o, p_o = other._eval_pdf(-w, -x_wi[kj])
                     wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p_o))
                     np.add.at(contribution, kj, beta * f_o * wt[:, None]
-                              * self._transmittance(self.thickness, x_wi[kj]) * x_wt[kj])
+                              * self._transmittance(self.thickness, x_wi[kj]) * x_w[kj])
                 bs = lobe._sample(-w, rng.random((len(j), 3)))
                 back = (bs.pdf > 0.0) & (bs.wi[:, 2] * w[:, 2] < 0.0)  # reflected, not out
                 beta = beta * bs.weight
@@ -375,25 +385,15 @@ class LayeredReference(Lobe):
 
     # -- pdf --------------------------------------------------------------------------------
     def _pdf(self, wo, wi):
-        batch = np.broadcast_shapes(wo.shape, wi.shape)[:-1]
-        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
-        wi = np.broadcast_to(wi, batch + (3,)).reshape(-1, 3)
+        batch, wo, wi = self._flat(wo, wi)
         rng = self._rng(wo, wi, np.array([1]))
         pdf = np.zeros(len(wo))
-        entering = wo[:, 2] > 0.0
-        possible = {True: True, False: bool(self.base.flags & Flags.TRANSMISSION)}
-        for exits_top in (True, False):
-            if not possible[exits_top]:
-                continue
-            chosen = np.flatnonzero(entering & ((wi[:, 2] > 0.0) == exits_top)
-                                    & (wi[:, 2] != 0.0))
-            for a, b in self._blocks(len(chosen)):
-                index = chosen[a:b]
-                estimate = self._walk_pdf(wo[index], wi[index], exits_top, rng)
-                if exits_top:
-                    estimate = estimate + self.top._pdf(wo[index], wi[index])
-                pdf[index] = (_UNIFORM_SHARE / (4.0 * np.pi)
-                              + (1.0 - _UNIFORM_SHARE) * estimate)
+        sides = (True, False) if self.base.flags & Flags.TRANSMISSION else (True,)
+        for exits_top, index in self._exit_blocks(wo, wi, sides):
+            estimate = self._walk_pdf(wo[index], wi[index], exits_top, rng)
+            if exits_top:
+                estimate = estimate + self.top._pdf(wo[index], wi[index])
+            pdf[index] = _UNIFORM_SHARE / (4.0 * np.pi) + (1.0 - _UNIFORM_SHARE) * estimate
         return pdf.reshape(batch)
 
     def _eval_pdf(self, wo, wi):
@@ -438,14 +438,12 @@ class LayeredReference(Lobe):
 
     # -- sample -----------------------------------------------------------------------------
     def _sample(self, wo, u):
-        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
-        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
-        u = np.broadcast_to(u, batch + (3,)).reshape(-1, 3)
-        wi, weight, pdf, flags = self._walk_sample(wo, u)
-        smooth = np.flatnonzero((flags != 0) & ((flags & _DELTA) == 0))
+        batch, wo, s = self._walked(wo, u)
+        pdf = s.pdf.copy()
+        smooth = np.flatnonzero((s.flags != 0) & ((s.flags & _DELTA) == 0))
         if len(smooth):
-            pdf[smooth] = self._pdf(wo[smooth], wi[smooth])
-        s = finished_sample(wi, weight, pdf, flags)
+            pdf[smooth] = self._pdf(wo[smooth], s.wi[smooth])
+        s = BSDFSample(s.wi, s.weight, pdf, s.flags)
         return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
     def walk(self, wo, u) -> BSDFSample:
@@ -454,15 +452,18 @@ class LayeredReference(Lobe):
         of the interfaces' densities along the walk (the discrete probability of a delta
         path). Cheaper than ``sample`` by the ``n_samples`` walks of each estimate."""
         def walked(wo, u):
-            batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
-            wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
-            u = np.broadcast_to(u, batch + (3,)).reshape(-1, 3)
-            s = finished_sample(*self._walk_sample(wo, u))
+            batch, _, s = self._walked(wo, u)
             return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
         return self._batched(walked, (
             (_params.direction_shape("wo", wo), lambda a: _params.check_unit("wo", a)),
             (_params.uniforms_shape("u", u, 3), lambda a: _params.check_uniform("u", a))))
+
+    def _walked(self, wo, u):
+        """``(batch, wo (n, 3), BSDFSample (n, ...))`` of ``_walk_sample`` on the flattened
+        batch, failed walks zeroed."""
+        batch, wo, u = self._flat(wo, u)
+        return batch, wo, finished_sample(*self._walk_sample(wo, u))
 
     def _walk_sample(self, wo, u):
         """``(wi, weight, pdf, flags)`` of one walk per ``wo`` [Pharr2023, §14.3.2]'s
