@@ -123,9 +123,11 @@ def measure(smoke: bool = False):
                         E_ref = np.sum(lum_ref * weight)
                         A_ref = mc_albedo(ref.walk, ref, wo, n_mc)
                         noise = np.sum(lum_err * weight) / E_ref
+                        top = next(iter(forms.values())).top  # one coat for every form
+                        top_o, top_i = top.eval(wo, wi), top.eval(wi, wo)
                         for name, layer in forms.items():
-                            f = luminance(layer.eval(wo, wi) - layer.top.eval(wo, wi))
-                            back = luminance(layer.eval(wi, wo) - layer.top.eval(wi, wo))
+                            f = luminance(layer.eval(wo, wi) - top_o)
+                            back = luminance(layer.eval(wi, wo) - top_i)
                             A = mc_albedo(layer.sample, layer, wo, n_mc, seed=6)
                             rows.append((coat, base, eta, r, mu, name, A[0] - A_ref[0],
                                          np.sum(np.abs(f - lum_ref) * weight) / E_ref, noise,
