@@ -5,6 +5,8 @@ Public API
 ----------
 ``Sum(*lobes, weights=None)``      f = sum_k w_k f_k, sampled as a mixture (one interface).
 ``Mix(a, b, weight)``              OpenPBR's mix, (1 - w) f_a + w f_b.
+``Tinted(lobe, color)``            color f_lobe, passing the untinted remainder to a layer
+                                   below (OpenPBR's specular and fuzz colours).
 ``Layer(top, base, coverage=1, transmittance=None, scaling="albedo", darkening=None)``
                                    ``top`` over ``base`` by albedo scaling (below).
 ``SCALINGS``                       its forms: "albedo", "reciprocal", "transmittance".
@@ -77,8 +79,8 @@ from adobe_bsdf import darkening as dk
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
-__all__ = ["Sum", "Mix", "Layer", "SCALINGS", "reciprocal_normalisation", "coat_absorption",
-           "Rotated", "Wrapper", "choose", "sample_where"]
+__all__ = ["Sum", "Mix", "Tinted", "Layer", "SCALINGS", "reciprocal_normalisation",
+           "coat_absorption", "Rotated", "Wrapper", "choose", "sample_where"]
 
 #: full coverage, the default of ``Layer``
 _FULL = np.asarray(1.0)
@@ -350,6 +352,43 @@ class Mix(Sum):
         w = _params.color("weight", weight, 0.0, 1.0)
         self.weight = w
         self._init((a, b), [1.0 - w, w])
+
+
+class Tinted(Sum):
+    """f = color f_lobe, seen by a ``Layer`` below it as the untinted lobe: as a layer's
+    top, its E_top is the lobe's own, so the light the tint takes is absorbed, not passed
+    on. OpenPBR's ``specular_color`` on the dielectric ("tints only the first reflection
+    from above; the transmitted light is unaffected", [OpenPBR2026, §Dielectric base]) and
+    ``fuzz_color`` ("E_fuzz is computed with white colour, so the base is not tinted",
+    [OpenPBR2026, §Fuzz]) are this.
+
+    Parameters
+    ----------
+    lobe : Lobe
+    color : colour in [0, 1]
+        The tint, scalar or ``(..., 3)`` (a texture allowed).
+    """
+
+    def __init__(self, lobe: Lobe, color):
+        if not isinstance(lobe, Lobe):
+            raise ValueError(f"lobe = {lobe!r}: Tinted takes a lobe")
+        self._init_tinted(lobe, _params.color("color", color, 0.0, 1.0))
+
+    @classmethod
+    def _new(cls, lobe, color):
+        self = cls.__new__(cls)
+        self._init_tinted(lobe, color)
+        return self
+
+    def _init_tinted(self, lobe, color):
+        self.lobe, self.color = lobe, color
+        self._init((lobe,), [color])
+
+    def __repr__(self) -> str:
+        return f"Tinted({self.lobe!r}, color={self.color!r})"
+
+    def _top_albedo(self, wo):
+        return self.lobe._top_albedo(wo)
 
 
 class Layer(Lobe):

@@ -23,8 +23,9 @@ from adobe_bsdf import _params
 
 __all__ = ["Parameter", "ParameterSpec", "KINDS"]
 
-#: the kinds of input: a colour (scalar or trailing axis 3) or a real number
-KINDS = ("color", "real")
+#: the kinds of input: a colour (scalar or trailing axis 3), a real number, a switch or a
+#: 3-vector of the local shading frame (normalised; MaterialX's vector3)
+KINDS = ("color", "real", "bool", "vector")
 
 
 @dataclass(frozen=True)
@@ -39,34 +40,61 @@ class Parameter:
     default : float, tuple of 3 floats, or None
         The value where the user gives none; None: derived from other parameters by the
         material (the user may still give it, or pass None for the derived value).
-    hard : (lo, hi)
-        Allowed closed range; values outside raise.
+    hard : (lo, hi) or None
+        Allowed range, closed unless ``lo_open``; values outside raise (None for a switch or
+        a vector).
     soft : (lo, hi) or None
         The range a user interface offers (None: the hard range).
     doc : str
         One line: meaning, source, what implements it.
+    lo_open : bool
+        The lower bound is excluded (an index of refraction in (0, inf)).
     """
 
     name: str
     kind: str
-    default: float | tuple | None
-    hard: tuple
+    default: float | tuple | bool | None
+    hard: tuple | None
     soft: tuple | None = None
     doc: str = ""
+    lo_open: bool = False
 
     def __post_init__(self):
         if self.kind not in KINDS:
             raise ValueError(f"kind = {self.kind!r} of parameter {self.name!r} is not one of "
                              f"{KINDS}")
 
-    def validate(self, value) -> np.ndarray:
-        """``value`` checked against the hard range, as float64 (a colour as ``(..., 3)``)."""
+    def validate(self, value):
+        """``value`` checked against the hard range, as float64 (a colour as ``(..., 3)``); a
+        switch as a bool; a vector as a non-zero ``(..., 3)``, normalised."""
+        if self.kind == "bool":
+            return _params.flag(self.name, value)
+        if self.kind == "vector":
+            v = _params.vectors(self.name, value)
+            length = np.linalg.norm(v, axis=-1, keepdims=True)
+            if not np.all(np.isfinite(length) & (length > 0.0)):
+                raise ValueError(f"{self.name} = {_params._show(v)}: allowed finite, non-zero "
+                                 "3-vectors of the local shading frame")
+            return v / length
         lo, hi = self.hard
-        check = _params.color if self.kind == "color" else _params.real
-        return check(self.name, value, lo, hi)
+        if self.kind == "color":
+            arr = _params.real(self.name, value, lo, hi, lo_open=self.lo_open)
+            return _params.color(self.name, arr)
+        return _params.real(self.name, value, lo, hi, lo_open=self.lo_open)
+
+    @property
+    def range_text(self) -> str:
+        """The hard range as ``docs/`` writes it."""
+        if self.kind == "bool":
+            return "{false, true}"
+        if self.kind == "vector":
+            return "unit 3-vector"
+        return _interval(self.hard, self.lo_open)
 
 
 def _number(x) -> str:
+    if isinstance(x, bool):
+        return str(x).lower()
     if isinstance(x, tuple):
         return "(" + ", ".join(_number(v) for v in x) + ")"
     if x == math.inf:
@@ -76,9 +104,10 @@ def _number(x) -> str:
     return f"{x:g}".replace("-", "−")
 
 
-def _interval(r) -> str:
+def _interval(r, lo_open: bool = False) -> str:
     lo, hi = r
-    left, right = "(" if math.isinf(lo) else "[", ")" if math.isinf(hi) else "]"
+    left = "(" if math.isinf(lo) or lo_open else "["
+    right = ")" if math.isinf(hi) else "]"
     return f"{left}{_number(lo)}, {_number(hi)}{right}"
 
 
@@ -117,7 +146,7 @@ class ParameterSpec:
             if value is None:
                 if p.default is not None:
                     raise ValueError(f"{p.name} = None: allowed a {p.kind} in "
-                                     f"{_interval(p.hard)} (default {_number(p.default)})")
+                                     f"{p.range_text} (default {_number(p.default)})")
                 continue
             out[p.name] = p.validate(value)
         return out
@@ -129,6 +158,6 @@ class ParameterSpec:
         for p in self:
             default = "derived" if p.default is None else _number(p.default)
             soft = "—" if p.soft is None else _interval(p.soft)
-            rows.append(f"| `{p.name}` | {p.kind} | {_interval(p.hard)} | {soft} | {default} | "
+            rows.append(f"| `{p.name}` | {p.kind} | {p.range_text} | {soft} | {default} | "
                         f"{p.doc} |")
         return "\n".join(rows) + "\n"

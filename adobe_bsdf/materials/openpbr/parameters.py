@@ -1,0 +1,218 @@
+"""The inputs of OpenPBR Surface: the 41 of the released v1.1.1 [OpenPBR2026, §Parameter
+reference], the two specular-haze inputs of the development branch as an extension, and the
+draft v0.1 inputs [Andersson2023] that ``OpenPBRSurface.from_draft`` maps onto them.
+
+Public API
+----------
+``PARAMETERS``        ``spec.ParameterSpec`` of the released inputs (+ the haze extension)
+``DRAFT_PARAMETERS``  ``spec.ParameterSpec`` of the draft's inputs (names, defaults, ranges)
+``STATUS``            ``{name: (status, how)}`` for both: "implemented", "implemented with a
+                      documented choice", "planned" (accepted, stored; a warning when set
+                      away from its default), "extension" (beyond v1.1.1) or "removed"
+                      (draft inputs with no released counterpart)
+``PLANNED``           the released inputs accepted but not yet modelled
+``GATES``             ``{planned input: the weight without which it has no effect}``
+"""
+
+from __future__ import annotations
+
+from adobe_bsdf.materials.spec import Parameter, ParameterSpec
+
+__all__ = ["PARAMETERS", "DRAFT_PARAMETERS", "STATUS", "PLANNED", "GATES"]
+
+_UNIT = (0.0, 1.0)
+_INF = float("inf")
+_POS = (0.0, _INF)
+_SIGNED = (-1.0, 1.0)
+_NORMAL, _TANGENT = (0.0, 0.0, 1.0), (1.0, 0.0, 0.0)
+
+
+def _p(name, kind, default, hard, soft=None, doc="", lo_open=False):
+    return Parameter(name, kind, default, hard, soft, doc, lo_open)
+
+
+#: OpenPBR Surface v1.1.1: names, kinds, defaults, hard and soft ranges of its parameter
+#: reference (the MaterialX nodedef's order), and the haze inputs of the development branch
+PARAMETERS = ParameterSpec(
+    _p("base_weight", "real", 1.0, _UNIT, doc="multiplier of base_color (metal F0, diffuse ρ)"),
+    _p("base_color", "color", 0.8, _UNIT, doc="metal F0; albedo of the glossy-diffuse base"),
+    _p("base_diffuse_roughness", "real", 0.0, _UNIT, doc="σ of the EON diffuse"),
+    _p("base_metalness", "real", 0.0, _UNIT, doc="mix weight of the metal"),
+    _p("specular_weight", "real", 1.0, _POS, soft=_UNIT,
+       doc="dielectric: F0 multiplier through the IOR; metal: Fresnel multiplier (≤ 1)"),
+    _p("specular_color", "color", 1.0, _UNIT,
+       doc="metal: F82 edge tint; dielectric: tint of the reflection from above"),
+    _p("specular_roughness", "real", 0.3, _UNIT, doc="r, α = r² (metal and dielectric)"),
+    _p("specular_roughness_anisotropy", "real", 0.0, _UNIT, doc="a of (α_t, α_b)"),
+    _p("specular_ior", "real", 1.5, _POS, soft=(1.0, 3.0), lo_open=True,
+       doc="n_b of the dielectric base"),
+    _p("transmission_weight", "real", 0.0, _UNIT, doc="mix weight of the translucent base"),
+    _p("transmission_color", "color", 1.0, _UNIT, doc="tint of the refraction (depth 0)"),
+    _p("transmission_depth", "real", 0.0, _POS, soft=_UNIT, doc="medium: μ_t = −ln(T)/d"),
+    _p("transmission_scatter", "color", 0.0, _UNIT, doc="medium: μ_s = S/d"),
+    _p("transmission_scatter_anisotropy", "real", 0.0, _SIGNED, doc="medium: HG g"),
+    _p("transmission_dispersion_scale", "real", 0.0, _UNIT, doc="V_d = Abbe / scale"),
+    _p("transmission_dispersion_abbe_number", "real", 20.0, _POS, soft=(9.0, 91.0),
+       lo_open=True, doc="Abbe number V_d"),
+    _p("subsurface_weight", "real", 0.0, _UNIT, doc="mix weight of the subsurface slab"),
+    _p("subsurface_color", "color", 0.8, _UNIT, doc="observed multiple-scattering albedo"),
+    _p("subsurface_radius", "real", 1.0, _POS, soft=_UNIT, doc="mean free path scale"),
+    _p("subsurface_radius_scale", "color", (1.0, 0.5, 0.25), _UNIT,
+       doc="per-channel mean free path"),
+    _p("subsurface_scatter_anisotropy", "real", 0.0, _SIGNED, doc="HG g of the subsurface"),
+    _p("coat_weight", "real", 0.0, _UNIT, doc="coverage of the coat"),
+    _p("coat_color", "color", 1.0, _UNIT, doc="two-way transmittance at normal incidence"),
+    _p("coat_roughness", "real", 0.0, _UNIT, doc="r_C of the coat"),
+    _p("coat_roughness_anisotropy", "real", 0.0, _UNIT, doc="a of the coat's (α_t, α_b)"),
+    _p("coat_ior", "real", 1.6, _POS, soft=(1.0, 3.0), lo_open=True, doc="n_c"),
+    _p("coat_darkening", "real", 1.0, _UNIT, doc="δ of the coat darkening"),
+    _p("fuzz_weight", "real", 0.0, _UNIT, doc="coverage of the fuzz"),
+    _p("fuzz_color", "color", 1.0, _UNIT, doc="tint of the fuzz reflection"),
+    _p("fuzz_roughness", "real", 0.5, _UNIT, doc="α of the LTC sheen"),
+    _p("emission_luminance", "real", 0.0, _POS, soft=(0.0, 1000.0), doc="nits"),
+    _p("emission_color", "color", 1.0, _POS, doc="HDR multiplier of the luminance"),
+    _p("thin_film_weight", "real", 0.0, _UNIT, doc="coverage of the thin film"),
+    _p("thin_film_thickness", "real", 0.5, _POS, soft=_UNIT, doc="µm"),
+    _p("thin_film_ior", "real", 1.4, _POS, soft=(1.0, 3.0), lo_open=True, doc="film index"),
+    _p("geometry_opacity", "real", 1.0, _UNIT, doc="presence of the surface"),
+    _p("geometry_thin_walled", "bool", False, None, doc="thin-walled mode"),
+    _p("geometry_normal", "vector", _NORMAL, None, doc="shading normal of the base"),
+    _p("geometry_tangent", "vector", _TANGENT, None,
+       doc="anisotropy direction (α_t) of the base, local frame"),
+    _p("geometry_coat_normal", "vector", _NORMAL, None, doc="shading normal of the coat"),
+    _p("geometry_coat_tangent", "vector", _TANGENT, None,
+       doc="anisotropy direction of the coat, local frame"),
+    # beyond v1.1.1: the development branch's specular haze
+    _p("specular_haze", "real", 0.0, _UNIT, doc="weight of a second, rougher base lobe"),
+    _p("specular_haze_spread", "real", 0.3, _UNIT,
+       doc="haze roughness lerp(specular_roughness, 1, spread)"),
+)
+
+#: the inputs of the v0.1 draft [Andersson2023, parameter tables] (its own defaults and
+#: ranges; its ranges with an open upper end, [0, 1), are written closed here: a value is
+#: accepted at the end, as the released model does)
+DRAFT_PARAMETERS = ParameterSpec(
+    _p("base_weight", "real", 1.0, _UNIT),
+    _p("base_color", "color", 0.8, _UNIT),
+    _p("base_roughness", "real", 0.0, _UNIT),
+    _p("base_metalness", "real", 0.0, _UNIT),
+    _p("specular_weight", "real", 1.0, _UNIT),
+    _p("specular_color", "color", 1.0, _UNIT),
+    _p("specular_roughness", "real", 0.3, _UNIT),
+    _p("specular_ior", "real", 1.5, (1.0, 3.0)),
+    _p("specular_ior_level", "real", 0.5, _UNIT),
+    _p("specular_anisotropy", "real", 0.0, _UNIT),
+    _p("specular_rotation", "real", 0.0, _UNIT),
+    _p("transmission_weight", "real", 0.0, _UNIT),
+    _p("transmission_color", "color", 1.0, _UNIT),
+    _p("transmission_depth", "real", 0.0, _POS),
+    _p("transmission_scatter", "color", 0.0, _UNIT),
+    _p("transmission_scatter_anisotropy", "real", 0.0, _SIGNED),
+    _p("transmission_dispersion_scale", "real", 0.0, _UNIT),
+    _p("transmission_dispersion_abbe_number", "real", 20.0, (10.0, 70.0)),
+    _p("subsurface_weight", "real", 0.0, _UNIT),
+    _p("subsurface_color", "color", 1.0, _UNIT),
+    _p("subsurface_radius", "real", 1.0, _POS),
+    _p("subsurface_radius_scale", "color", 1.0, _UNIT),
+    _p("subsurface_anisotropy", "real", 0.0, _SIGNED),
+    _p("coat_weight", "real", 0.0, _UNIT),
+    _p("coat_color", "color", 1.0, _UNIT),
+    _p("coat_roughness", "real", 0.3, _UNIT),
+    _p("coat_ior", "real", 1.6, (1.0, 3.0)),
+    _p("coat_ior_level", "real", 0.5, _UNIT),
+    _p("coat_anisotropy", "real", 0.0, _UNIT),
+    _p("coat_rotation", "real", 0.0, _UNIT),
+    _p("fuzz_weight", "real", 0.0, _UNIT),
+    _p("fuzz_color", "color", 1.0, _UNIT),
+    _p("fuzz_roughness", "real", 0.5, _UNIT),
+    _p("emission_luminance", "real", 0.0, _POS),
+    _p("emission_color", "color", 1.0, _UNIT),
+    _p("thin_film_thickness", "real", 0.0, (0.0, 1000.0)),
+    _p("thin_film_ior", "real", 1.5, (1.0, 3.0)),
+    _p("geometry_opacity", "real", 1.0, _UNIT),
+    _p("geometry_thin_walled", "bool", False, None),
+)
+
+_DONE, _CHOICE, _PLANNED = ("implemented", "implemented with a documented choice", "planned")
+
+#: how each input is implemented (released and draft names; ``docs/openpbr.md`` prints it)
+STATUS = {
+    "base_weight": (_DONE, "F0 = base_weight base_color; ρ = base_weight base_color"),
+    "base_color": (_DONE, "`fresnel.F82Tint` F0; `lobes.EON` ρ"),
+    "base_diffuse_roughness": (_DONE, "σ of `lobes.EON` (energy-preserving Oren–Nayar)"),
+    "base_metalness": (_DONE, "`composition.Mix` of dielectric and metal"),
+    "specular_weight": (_DONE, "`specular_ior_modulation` (dielectric); min(ξ, 1) × F82 "
+                               "(metal)"),
+    "specular_color": (_CHOICE, "metal: F82 tint at μ̄ = 1/7; dielectric: `Tinted` reflection "
+                                "of the opaque base (the layer below sees the untinted "
+                                "remainder); the translucent base's reflection is not tinted"),
+    "specular_roughness": (_DONE, "`anisotropic_alphas`; under a coat `base_roughening`"),
+    "specular_roughness_anisotropy": (_DONE, "`anisotropic_alphas`"),
+    "specular_ior": (_CHOICE, "`effective_ior` (coat blend, TIR fix); the energy tables "
+                              "limit the relative index to [1/3, 3]"),
+    "transmission_weight": (_DONE, "`composition.Mix` of opaque and translucent bases; "
+                                   "`lobes.DielectricMS`"),
+    "transmission_color": (_PLANNED, "tint of the refraction"),
+    "transmission_depth": (_PLANNED, "the translucent medium"),
+    "transmission_scatter": (_PLANNED, "the translucent medium"),
+    "transmission_scatter_anisotropy": (_PLANNED, "the translucent medium"),
+    "transmission_dispersion_scale": (_PLANNED, "dispersion (Cauchy)"),
+    "transmission_dispersion_abbe_number": (_PLANNED, "dispersion (Cauchy)"),
+    "subsurface_weight": (_CHOICE, "the dense limit: glossy-diffuse of ρ = subsurface_color "
+                                   "under the same interface (its medium is planned)"),
+    "subsurface_color": (_CHOICE, "ρ of that limit: E = (1 − E_spec) C at normal incidence, "
+                                  "as v1.1.1 defines the colour"),
+    "subsurface_radius": (_PLANNED, "the subsurface medium"),
+    "subsurface_radius_scale": (_PLANNED, "the subsurface medium"),
+    "subsurface_scatter_anisotropy": (_PLANNED, "the subsurface medium"),
+    "coat_weight": (_DONE, "coverage of `composition.Layer`; η_s blend; base roughening"),
+    "coat_color": (_DONE, "Layer scaling 'transmittance': T^((1/μ_o^t + 1/μ_i^t)/2)"),
+    "coat_roughness": (_DONE, "`anisotropic_alphas` of the coat"),
+    "coat_roughness_anisotropy": (_DONE, "`anisotropic_alphas` of the coat"),
+    "coat_ior": (_CHOICE, "coat reflection over the ambient (n_a = 1); the tables limit it to "
+                          "[1/3, 3]"),
+    "coat_darkening": (_CHOICE, "`darkening.Darkening`: the naive-albedo-preserving form of "
+                                "[Portsmouth2025] by default, v1.1.1's as an option"),
+    "fuzz_weight": (_DONE, "F of F f_fuzz + (1 − F E_fuzz) f_below"),
+    "fuzz_color": (_DONE, "`Tinted` LTC sheen: E_fuzz white for the layer below"),
+    "fuzz_roughness": (_DONE, "α of `lobes.LTCSheen`"),
+    "emission_luminance": (_PLANNED, "emission under the coat"),
+    "emission_color": (_PLANNED, "emission under the coat"),
+    "thin_film_weight": (_PLANNED, "thin-film interference"),
+    "thin_film_thickness": (_PLANNED, "thin-film interference"),
+    "thin_film_ior": (_PLANNED, "thin-film interference"),
+    "geometry_opacity": (_PLANNED, "mix with the ambient medium"),
+    "geometry_thin_walled": (_PLANNED, "thin-walled mode"),
+    "geometry_normal": (_PLANNED, "normal maps"),
+    "geometry_tangent": (_DONE, "`composition.Rotated` by its azimuth in the local frame"),
+    "geometry_coat_normal": (_PLANNED, "normal maps"),
+    "geometry_coat_tangent": (_DONE, "`composition.Rotated` by its azimuth"),
+    "specular_haze": ("extension", "dev_1.2: (1 − w) f_core + w f_haze on metal and dielectric "
+                                   "base, each compensated"),
+    "specular_haze_spread": ("extension", "dev_1.2: r_haze = lerp(r, 1, spread)"),
+    # draft names without a released counterpart (``from_draft`` maps them)
+    "base_roughness": ("renamed", "base_diffuse_roughness"),
+    "specular_ior_level": ("removed", "ξ = 2 level scales F0: specular_weight = 2 level with "
+                                      "the draft's clamp"),
+    "specular_anisotropy": ("renamed", "specular_roughness_anisotropy (the draft's mapping "
+                                       "to alphas was open: v1.1.1's is used)"),
+    "specular_rotation": ("removed", "geometry_tangent = (cos 2πθ, sin 2πθ, 0)"),
+    "subsurface_anisotropy": ("renamed", "subsurface_scatter_anisotropy"),
+    "coat_ior_level": ("removed", "folded into coat_ior by the same modulation"),
+    "coat_anisotropy": ("renamed", "coat_roughness_anisotropy"),
+    "coat_rotation": ("removed", "geometry_coat_tangent = (cos 2πθ, sin 2πθ, 0)"),
+}
+
+#: released inputs accepted and stored but not yet modelled: setting one away from its
+#: default warns where it would act (``OpenPBRSurface.planned`` lists them)
+PLANNED = tuple(name for name in PARAMETERS.parameters if STATUS[name][0] == _PLANNED)
+
+#: the weight without which a planned input has no effect in the released model
+GATES = {"transmission_color": "transmission_weight", "transmission_depth": "transmission_weight",
+         "transmission_scatter": "transmission_depth",
+         "transmission_scatter_anisotropy": "transmission_depth",
+         "transmission_dispersion_abbe_number": "transmission_dispersion_scale",
+         "subsurface_radius": "subsurface_weight", "subsurface_radius_scale": "subsurface_weight",
+         "subsurface_scatter_anisotropy": "subsurface_weight",
+         "emission_color": "emission_luminance", "thin_film_thickness": "thin_film_weight",
+         "thin_film_ior": "thin_film_weight"}
