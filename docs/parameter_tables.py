@@ -2,10 +2,10 @@
 
     python docs/parameter_tables.py [--check]
 
-The table is ``ParameterSpec.markdown()`` of ``materials.MATERIALS[name].parameters``,
-placed between the markers ``<!-- parameters: NAME -->`` and ``<!-- end parameters -->`` of
-the page in ``PAGES``. ``--check`` only reports (exit 1) a page whose table is out of date
-(``tests/test_parameter_spec.py`` runs it).
+Each table of ``TABLES`` (a material's ``ParameterSpec.markdown()``, or OpenPBR's tables
+with each input's status) is placed between the markers ``<!-- parameters: NAME -->`` and
+``<!-- end parameters -->`` of its page. ``--check`` only reports (exit 1) a page whose
+table is out of date (``tests/test_parameter_spec.py`` runs it).
 """
 
 from __future__ import annotations
@@ -15,15 +15,23 @@ import re
 import sys
 from pathlib import Path
 
-from adobe_bsdf.materials import MATERIALS
+from adobe_bsdf.materials import MATERIALS, openpbr
 
 DOCS = Path(__file__).resolve().parent
-#: the page of each registered material
-PAGES = {"AdobeStandardMaterial": "asm.md"}
+#: each table by name: its page and the function that writes it
+TABLES = {
+    "AdobeStandardMaterial": ("asm.md", MATERIALS["AdobeStandardMaterial"].parameters.markdown),
+    "OpenPBRSurface": ("openpbr.md", lambda: openpbr.parameters.status_markdown(
+        openpbr.PARAMETERS)),
+    "OpenPBRDraft": ("openpbr.md", lambda: openpbr.parameters.status_markdown(
+        openpbr.DRAFT_PARAMETERS)),
+}
+#: the page of each table
+PAGES = {name: page for name, (page, _) in TABLES.items()}
 
 
 def _block(name: str) -> str:
-    table = MATERIALS[name].parameters.markdown()
+    table = TABLES[name][1]()
     return (f"<!-- parameters: {name} (written by docs/parameter_tables.py) -->\n{table}"
             "<!-- end parameters -->")
 
@@ -46,7 +54,7 @@ def main(argv=None) -> int:
         text = path.read_text(encoding="utf-8")
         new = updated(name, text)
         if new != text:
-            stale.append(page)
+            stale.append(f"{page} ({name})")
             if not args.check:
                 path.write_text(new, encoding="utf-8")
     if args.check and stale:

@@ -32,7 +32,7 @@ def test_registry_holds_every_material_with_its_spec():
 
 def test_docs_tables_are_written_from_the_specs():
     module = _tables_script()
-    assert set(module.PAGES) == set(MATERIALS)
+    assert set(MATERIALS) <= set(module.PAGES)
     assert module.main(["--check"]) == 0
     text = (ROOT / "docs" / module.PAGES["AdobeStandardMaterial"]).read_text(encoding="utf-8")
     assert PARAMETERS.markdown() in text
@@ -87,7 +87,7 @@ def test_validate_rejects_unknown_and_missing_values():
     with pytest.raises(ValueError, match="c has shape"):
         spec.validate({"c": [0.1, 0.2]})
     with pytest.raises(ValueError, match="kind"):
-        Parameter("x", "vector", 0.0, (0.0, 1.0))
+        Parameter("x", "texture", 0.0, (0.0, 1.0))
     with pytest.raises(ValueError, match="unique"):
         ParameterSpec(Parameter("a", "real", 0.0, (0.0, 1.0)),
                       Parameter("a", "real", 0.0, (0.0, 1.0)))

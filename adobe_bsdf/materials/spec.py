@@ -48,7 +48,7 @@ class Parameter:
     doc : str
         One line: meaning, source, what implements it.
     lo_open : bool
-        The lower bound is excluded (an index of refraction in (0, inf)).
+        The lower bound is excluded (an index of refraction in (0, inf)); real inputs only.
     """
 
     name: str
@@ -63,6 +63,8 @@ class Parameter:
         if self.kind not in KINDS:
             raise ValueError(f"kind = {self.kind!r} of parameter {self.name!r} is not one of "
                              f"{KINDS}")
+        if self.lo_open and self.kind != "real":
+            raise ValueError(f"lo_open of parameter {self.name!r}: allowed for real inputs")
 
     def validate(self, value):
         """``value`` checked against the hard range, as float64 (a colour as ``(..., 3)``); a
@@ -78,8 +80,7 @@ class Parameter:
             return v / length
         lo, hi = self.hard
         if self.kind == "color":
-            arr = _params.real(self.name, value, lo, hi, lo_open=self.lo_open)
-            return _params.color(self.name, arr)
+            return _params.color(self.name, value, lo, hi)
         return _params.real(self.name, value, lo, hi, lo_open=self.lo_open)
 
     @property

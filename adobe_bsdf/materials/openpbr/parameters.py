@@ -12,13 +12,14 @@ Public API
                       (draft inputs with no released counterpart)
 ``PLANNED``           the released inputs accepted but not yet modelled
 ``GATES``             ``{planned input: the weight without which it has no effect}``
+``status_markdown(spec)``  the ``docs/openpbr.md`` table of ``spec`` with each input's status
 """
 
 from __future__ import annotations
 
-from adobe_bsdf.materials.spec import Parameter, ParameterSpec
+from adobe_bsdf.materials.spec import Parameter, ParameterSpec, _number
 
-__all__ = ["PARAMETERS", "DRAFT_PARAMETERS", "STATUS", "PLANNED", "GATES"]
+__all__ = ["PARAMETERS", "DRAFT_PARAMETERS", "STATUS", "PLANNED", "GATES", "status_markdown"]
 
 _UNIT = (0.0, 1.0)
 _INF = float("inf")
@@ -216,3 +217,16 @@ GATES = {"transmission_color": "transmission_weight", "transmission_depth": "tra
          "subsurface_scatter_anisotropy": "subsurface_weight",
          "emission_color": "emission_luminance", "thin_film_thickness": "thin_film_weight",
          "thin_film_ior": "thin_film_weight"}
+
+
+def status_markdown(spec: ParameterSpec) -> str:
+    """The table of ``docs/openpbr.md``: name, kind, default, hard and soft range, status and
+    how it is implemented (draft inputs: where ``from_draft`` puts them)."""
+    rows = ["| parameter | kind | default | range | soft range | status | how |",
+            "|---|---|---|---|---|---|---|"]
+    for p in spec:
+        status, how = STATUS.get(p.name, ("implemented", "as in v1.1.1"))
+        soft = "—" if p.soft is None else Parameter(p.name, "real", 0.0, p.soft).range_text
+        rows.append(f"| `{p.name}` | {p.kind} | {_number(p.default)} | {p.range_text} | {soft} "
+                    f"| {status} | {how} |")
+    return "\n".join(rows) + "\n"
