@@ -160,12 +160,12 @@ def _markdown(vals, clamps, small_fit, meth, recip, figures, seconds):
         generated_by("benchmarks.fuzz_report", seconds, METHOD_PAGE),
         "",
         "The fuzz lobe `LTCSheen(color, α)` of `adobe_bsdf.lobes.ltc_sheen` [Zeltner2022] "
-        "[OpenPBR2026, §Fuzz] beside the microflake sheen of the ASM, `Sheen(color, r)` "
-        "[Kutz2021, §6] with its default c = 2, p = 1. α of [Zeltner2022] is the square root "
-        "of the SGGX fibre cross section σ, the fibres' S = diag(1, 1, σ²); the ASM's "
-        "S = diag(1, 1, r²) [Kutz2021, eq. 16]: the fibres are the same at r = α². The fuzz "
-        "is a fit to the multiple scattering of a volume of such fibres; the ASM sheen is their "
-        "single scattering, brightened by c = 2.",
+        "(OpenPBR's fuzz, [OpenPBR2026, §Fuzz]) beside the microflake sheen of the ASM, "
+        "`Sheen(color, r)` [Kutz2021, §6] with its default c = 2, p = 1. α of [Zeltner2022] "
+        "is the square root of the SGGX fibre cross section σ, the fibres' "
+        "S = diag(1, 1, σ²); the ASM's S = diag(1, 1, r²) [Kutz2021, eq. 16]: the fibres are "
+        "the same at r = α². The fuzz is a fit to the multiple scattering of a volume of such "
+        "fibres; the ASM sheen is their single scattering, brightened by c = 2.",
         "",
         "## Directional albedo",
         "",

@@ -13,6 +13,8 @@ ROOT = Path(__file__).resolve().parents[1]
 MODULES = ("adobe_bsdf", "adobe_bsdf.bsdf", "adobe_bsdf.composition", "adobe_bsdf.frame",
            "adobe_bsdf.fresnel", "adobe_bsdf.microfacet", "adobe_bsdf.lobes",
            "adobe_bsdf.materials", "adobe_bsdf.materials.spec", "adobe_bsdf.materials.asm",
+           "adobe_bsdf.materials.openpbr", "adobe_bsdf.materials.openpbr.mapping",
+           "adobe_bsdf.materials.openpbr.draft",
            "adobe_bsdf.haze", "adobe_bsdf.hazy", "adobe_bsdf.dispersion", "adobe_bsdf.spectral",
            "adobe_bsdf.media", "adobe_bsdf.quadrature", "adobe_bsdf.tables", "adobe_bsdf.render",
            "adobe_bsdf.plot", "adobe_bsdf.validation", "adobe_bsdf.validation.cases",

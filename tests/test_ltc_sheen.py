@@ -1,5 +1,5 @@
 """The LTC fuzz [Zeltner2022] [OpenPBR2026, §Fuzz]: the definition, the normalisation of its
-linearly transformed cosine [Heitz2016LTC], the albedo fit against the authors' simulated
+linearly transformed cosine [Heitz2016], the albedo fit against the authors' simulated
 albedo, exact sampling, its non-reciprocity (measured), extremes and bad input."""
 
 import warnings
@@ -57,7 +57,7 @@ def _M_inv(x, y):
 
 def _definition(wo, wi, color, alpha):
     """mu_i f = color E D with D(w) = D_o(M^-1 w / |M^-1 w|) |det M^-1| / |M^-1 w|^3
-    [Heitz2016LTC, §3], D_o the clamped cosine / pi, in the frame that turns wo to azimuth 0
+    [Heitz2016, §3], D_o the clamped cosine / pi, in the frame that turns wo to azimuth 0
     [Zeltner2022]; one pair at a time, the matrix by NumPy."""
     phi = np.arctan2(wo[1], wo[0])
     c, s = np.cos(-phi), np.sin(-phi)

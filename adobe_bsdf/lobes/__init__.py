@@ -13,9 +13,11 @@
 ``ConductorMultipleScattering`` / ``ConductorMS``            Kulla–Conty for metals
 ``DielectricMultipleScattering`` / ``DielectricMS``          Kulla–Conty for rough dielectrics
 ``Sheen(color, roughness, c=2, p=1)``                        microflake sheen
+``EnergyPreservingOrenNayar(albedo, roughness)`` / ``EON``    rough diffuse [PortsmouthEON2025]
+``LTCSheen(color, roughness)``                               LTC fuzz [Zeltner2022]
 ``HazyGloss(...)``, ``HazyDielectric(...)``                  hazy gloss [Barla2018]
 
-Operators that combine lobes (``Sum``, ``Layer``, ``Rotated``) are in
+Operators that combine lobes (``Sum``, ``Mix``, ``Tinted``, ``Layer``, ``Rotated``) are in
 ``adobe_bsdf.composition``; material recipes (that of [Kutz2021]) under
 ``adobe_bsdf.materials``.
 """
@@ -30,10 +32,12 @@ from adobe_bsdf.lobes.kulla_conty import (
     DielectricMultipleScattering,
 )
 from adobe_bsdf.lobes.lambert import Lambert
+from adobe_bsdf.lobes.ltc_sheen import LTCSheen
+from adobe_bsdf.lobes.oren_nayar import EON, EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.reflection import Conductor, DielectricReflection, MicrofacetReflection
 from adobe_bsdf.lobes.sheen import Sheen
 
 __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection", "Dielectric",
            "Dispersive", "ConductorMultipleScattering", "ConductorMS",
            "DielectricMultipleScattering", "DielectricMS", "Sheen", "HazyGloss",
-           "HazyDielectric"]
+           "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen"]

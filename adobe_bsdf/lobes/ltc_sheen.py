@@ -4,7 +4,7 @@ Public API
 ----------
 ``LTCSheen(color, roughness)``
     The fuzz lobe that [OpenPBR2026, §Fuzz] recommends: mu_i f(wi, wo) = color E(mu_o, alpha)
-    D(wi | wo, alpha), D a normalised linearly transformed cosine [Heitz2016LTC], sampled
+    D(wi | wo, alpha), D a normalised linearly transformed cosine [Heitz2016], sampled
     exactly; ``albedo(wo, "table")`` is the fit color E.
 ``albedo_fit(mu, roughness)``
     The fit E(mu, alpha) of the directional albedo.
@@ -23,7 +23,7 @@ References
 [Zeltner2022] the lobe: mu_i f = C R_i D_o(M^-1 w / |M^-1 w|) |M^-1| / |M^-1 w|^3, with
 M^-1 = [[A, 0, B], [0, A, 0], [0, 0, 1]] in a frame whose X axis is wo projected onto the
 surface.
-[Heitz2016LTC, §3] the density of a linearly transformed distribution and its sampling.
+[Heitz2016, §3] the density of a linearly transformed distribution and its sampling.
 [OpenPBR2026, §Fuzz] the fuzz layer F f_fuzz + (1 - F E) f_below, E that of white fuzz.
 """
 
@@ -123,7 +123,7 @@ class LTCSheen(SupportLobe):
 
     D is the clamped cosine D_o(w) = max(w_z, 0) / pi transformed by M^-1 = [[aInv, 0, bInv],
     [0, aInv, 0], [0, 0, 1]] in the frame (X, Y, n), X the projection of wo onto the surface
-    [Heitz2016LTC, §3]: with w' = M^-1 w = (aInv w_x + bInv w_z, aInv w_y, w_z),
+    [Heitz2016, §3]: with w' = M^-1 w = (aInv w_x + bInv w_z, aInv w_y, w_z),
 
         D(w) = D_o(w' / |w'|) |det M^-1| / |w'|^3 = (w_z / pi) (aInv / |w'|^2)^2,
 
@@ -153,7 +153,7 @@ class LTCSheen(SupportLobe):
     fuzz. Where aInv underflows to 0 (alpha below ~1e-154) the lobe is 0 as at alpha = 0, and
     so is its albedo.
 
-    Sampling [Heitz2016LTC, §3]: a clamped-cosine direction v mapped by M = (M^-1)^-1 and
+    Sampling [Heitz2016, §3]: a clamped-cosine direction v mapped by M = (M^-1)^-1 and
     normalised, computed as aInv M v = (v_x - bInv v_z, v_y, aInv v_z) (no division by aInv);
     pdf = D(wi), so weight = f mu_i / pdf = color E(mu_o, alpha) exactly, for every sample.
 

@@ -64,7 +64,7 @@ def reflectance_at_normal(eta):
 
 def specular_ior_modulation(eta_s, specular_weight):
     """eta'_s = (1 + eps) / (1 - eps), eps = sgn(eta_s - 1) sqrt(xi F_s), xi clamped to
-    [0, 1 / F_s] [OpenPBR2026, §Dielectric base]: the relative index whose normal-incidence
+    0 <= xi <= 1 / F_s ([OpenPBR2026, §Dielectric base]): the relative index whose normal-incidence
     reflectance is specular_weight times that of eta_s (xi = 0: eta' = 1, no reflection;
     xi F_s = 1 would be an infinite index: it is kept below 1 by one part in 1e12, an index
     of ~4e6, which the caller's range check refuses)."""

@@ -1,0 +1,255 @@
+"""OpenPBR Surface v1.1.1 as one BSDF [OpenPBR2026; Andersson2023, §Model] (the parameter
+table and every choice are in ``docs/openpbr.md``).
+
+    surface     = layer(coated-base, fuzz, fuzz_weight)
+    coated-base = layer(base, coat, coat_weight)
+    base        = mix(dielectric-base, metal, base_metalness)
+    dielectric  = mix(opaque-base, translucent-base, transmission_weight)
+    opaque-base = mix(glossy-diffuse, subsurface, subsurface_weight)
+
+Each mix is ``composition.Mix``; each layer ``composition.Layer`` by albedo scaling, the
+coat's with its view-dependent absorption ("transmittance") and darkening. The glossy-diffuse
+slab is the dielectric's reflection over the energy-preserving Oren–Nayar diffuse (the
+reflection ``Tinted`` by specular_color), so a white diffuse keeps all the energy
+E_spec + (1 - E_spec) = 1 and a Lambertian one reflects E_diffuse = (1 - E_spec) C. Lobes of
+zero weight everywhere are never built (``OpenPBRSurface.lobes`` lists the ones that were).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from adobe_bsdf import _params
+from adobe_bsdf.composition import Layer, Mix, Rotated, Sum, Tinted
+from adobe_bsdf.darkening import VARIANTS, Darkening
+from adobe_bsdf.fresnel import ExactDielectric, F82Tint
+from adobe_bsdf.lobes.energy_lookup import conductor_average
+from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS
+from adobe_bsdf.lobes.ltc_sheen import LTCSheen
+from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
+from adobe_bsdf.lobes.reflection import DielectricReflection
+from adobe_bsdf.materials.material import Material
+from adobe_bsdf.materials.openpbr import draft, mapping
+from adobe_bsdf.materials.openpbr.parameters import GATES, PARAMETERS, PLANNED
+from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.tables import ETA_MAX
+
+__all__ = ["OpenPBRSurface", "ETA_RANGE"]
+
+#: relative indices the energy tables hold (dielectric reflection, Kulla–Conty, darkening)
+ETA_RANGE = (1.0 / ETA_MAX, ETA_MAX)
+_F90, _EXPONENT = np.ones(3), np.asarray(5.0)
+
+
+def _any(x) -> bool:
+    return bool(np.any(np.asarray(x) != 0.0))
+
+
+def _c(x):
+    """A per-element weight ``(...)`` as a colour ``(..., 3)``."""
+    return _params.as_color(np.asarray(x, dtype=np.float64)[..., None])
+
+
+def _turned(lobe, phi):
+    return Rotated._new(lobe, phi) if _any(phi) else lobe
+
+
+def _in_tables(name: str, eta) -> None:
+    lo, hi = ETA_RANGE
+    bad = (eta < lo) | (eta > hi)
+    if np.any(bad):
+        raise ValueError(f"{name} gives a relative index {np.asarray(eta)[bad].flat[0]!r} at "
+                         f"the interface; allowed: [{lo:.6g}, {hi:g}] (the range of the "
+                         "energy tables)")
+
+
+class OpenPBRSurface(Material):
+    """OpenPBR Surface v1.1.1 [OpenPBR2026] (module docstring): keyword arguments are the
+    specification's 41 inputs (``PARAMETERS``: kind, default, hard and soft range) plus the
+    development branch's ``specular_haze`` and ``specular_haze_spread``; each broadcasts, so
+    a texture of parameters evaluates in one call. Inputs not yet modelled (``PLANNED``:
+    thin film, media, thin walls, emission, opacity, normal maps) are accepted and stored;
+    setting one away from its default warns.
+
+    Lobes (``lobes`` names the ones built):
+    - "metal": ``ConductorMS`` (Kulla–Conty) with ``fresnel.F82Tint`` of F0 = base_weight
+      base_color and tint specular_color at mu_bar = 1/7, times min(specular_weight, 1);
+      its multiple scattering coloured by ``mapping.metal_multiple_scattering``;
+    - "specular": the dielectric's reflection at the modulated index
+      (``mapping.effective_ior``, ``mapping.specular_ior_modulation``), ``Tinted`` by
+      specular_color, over "diffuse" (``EnergyPreservingOrenNayar`` of base_weight
+      base_color) and "subsurface" (the same of subsurface_color: the slab's dense limit);
+    - "transmission": ``DielectricMS`` at the modulated index;
+    - "coat": the coat's reflection (index coat_ior) over the base, with coverage
+      coat_weight, coat_color as the two-way transmittance at normal incidence made view
+      dependent, the base roughened (``mapping.base_roughening``) and darkened
+      (``darkening.Darkening``, ``darkening_variant``);
+    - "fuzz": ``LTCSheen`` of fuzz_roughness, ``Tinted`` by fuzz_color, coverage fuzz_weight.
+    Anisotropy: ``mapping.anisotropic_alphas``, turned to ``geometry_tangent`` (base) and
+    ``geometry_coat_tangent`` (coat).
+
+    Parameters
+    ----------
+    **params
+        The inputs, named as in ``docs/openpbr.md``.
+    darkening_variant : {"pr253", "v1.1.1"}
+        The coat-darkening formula: [Portsmouth2025] (the default: it keeps the naive
+        albedo at coat_darkening = 0 and does not shift the hue of a tinted coat) or
+        v1.1.1's.
+    """
+
+    #: the inputs, their ranges and defaults
+    parameters = PARAMETERS
+
+    def __init__(self, *, darkening_variant: str = "pr253", **params):
+        p = self.params = PARAMETERS.validate(params)
+        self.darkening_variant = _params.choice("darkening_variant", darkening_variant,
+                                                VARIANTS)
+        self.planned = tuple(name for name in PLANNED if _acts(p, name))
+        if self.planned:
+            warnings.warn(f"OpenPBRSurface: {', '.join(self.planned)} not modelled yet: the "
+                          "values are stored and have no effect (docs/openpbr.md)",
+                          stacklevel=2)
+        built = {}
+        C, M = p["coat_weight"], p["base_metalness"]
+        coat = _any(C)
+        r = mapping.base_roughening(p["specular_roughness"], p["coat_roughness"], C) \
+            if coat else p["specular_roughness"]
+        alphas = mapping.anisotropic_alphas(r, p["specular_roughness_anisotropy"])
+        phi = mapping.tangent_rotation(p["geometry_tangent"])
+        metal = self._metal(alphas, phi) if _any(M) else None
+        eta_s = dielectric = None
+        if _any(1.0 - M):
+            eta_s = mapping.effective_ior(p["specular_ior"], p["coat_ior"], C)
+            eta = mapping.specular_ior_modulation(eta_s, p["specular_weight"])
+            _in_tables("specular_ior (with specular_weight and the coat)", eta)
+            dielectric = self._dielectric(eta, alphas, phi, built)
+        if metal is not None:
+            built["metal"] = metal
+        bsdf = _mix(dielectric, metal, M)
+        self._layers = []
+        if coat:
+            bsdf = self._coat(bsdf, r, eta_s, built)
+        F = p["fuzz_weight"]
+        if _any(F):
+            built["fuzz"] = LTCSheen(1.0, p["fuzz_roughness"])
+            bsdf = Layer._new(Tinted._new(built["fuzz"], p["fuzz_color"]), bsdf, F)
+            self._layers.append(bsdf)
+        super().__init__(bsdf, built)
+
+    def __repr__(self) -> str:
+        return f"OpenPBRSurface(lobes={list(self.lobes)})"
+
+    @classmethod
+    def from_draft(cls, *, darkening_variant: str = "pr253", **draft_params):
+        """The surface of the draft v0.1 inputs [Andersson2023] (``draft.released_parameters``
+        maps them; ``draft_differences`` lists where the released formulas differ for these
+        values, and a warning says so)."""
+        params, differences = draft.released_parameters(**draft_params)
+        if differences:
+            warnings.warn("OpenPBRSurface.from_draft: " + "; ".join(differences),
+                          stacklevel=2)
+        material = cls(darkening_variant=darkening_variant, **params)
+        material.draft_differences = tuple(differences)
+        return material
+
+    # -- the slabs --------------------------------------------------------------------------
+    def _metal(self, alphas, phi):
+        """xi F82-tint conductor with Kulla–Conty multiple scattering [OpenPBR2026, §Metal]."""
+        p = self.params
+        f0 = _c(p["base_weight"]) * p["base_color"]
+        tint = p["specular_color"]
+        microfacets = GGX._new(*alphas)
+        f_ms = mapping.metal_multiple_scattering(mapping.f82_average(f0, tint),
+                                                 conductor_average(microfacets))
+        lobe = ConductorMS._new(microfacets, F82Tint._new(f0, tint, _F90, _EXPONENT),
+                                np.sqrt(f_ms))
+        xi = np.minimum(p["specular_weight"], 1.0)
+        if np.any(xi != 1.0):
+            lobe = Sum._new((lobe,), [_c(xi)])
+        return _turned(lobe, phi)
+
+    def _dielectric(self, eta, alphas, phi, built):
+        """mix(mix(glossy-diffuse, subsurface, S), translucent, T) under one interface."""
+        p = self.params
+        S, T = p["subsurface_weight"], p["transmission_weight"]
+        opaque = None
+        if _any(1.0 - T):
+            built["specular"] = _turned(DielectricReflection._new(GGX._new(*alphas),
+                                                                  _fresnel(eta)), phi)
+            sigma = p["base_diffuse_roughness"]
+            if _any(1.0 - S):
+                rho = _c(p["base_weight"]) * p["base_color"]
+                built["diffuse"] = EnergyPreservingOrenNayar(rho, sigma)
+            if _any(S):
+                built["subsurface"] = EnergyPreservingOrenNayar(p["subsurface_color"], sigma)
+            under = _mix(built.get("diffuse"), built.get("subsurface"), S)
+            top = built["specular"]
+            if np.any(p["specular_color"] != 1.0):
+                top = Tinted._new(top, p["specular_color"])
+            opaque = Layer._new(top, under)
+        if _any(T):
+            built["transmission"] = _turned(DielectricMS._new(eta, GGX._new(*alphas)), phi)
+        return _mix(opaque, built.get("transmission"), T)
+
+    def _coat(self, base, r, eta_s, built):
+        """The coat over ``base`` [OpenPBR2026, §Coat]."""
+        p = self.params
+        n_c = p["coat_ior"]
+        _in_tables("coat_ior", n_c)
+        alphas = mapping.anisotropic_alphas(p["coat_roughness"],
+                                            p["coat_roughness_anisotropy"])
+        reflection = DielectricReflection._new(GGX._new(*alphas), _fresnel(n_c))
+        built["coat"] = _turned(reflection, mapping.tangent_rotation(
+            p["geometry_coat_tangent"]))
+        color = p["coat_color"]
+        clear = not np.any(color != 1.0)
+        darkening = None
+        if _any(p["coat_darkening"]):
+            darkening = Darkening(p["coat_darkening"], self._darkening_roughness(r, eta_s),
+                                  self.darkening_variant)
+        layer = Layer._new(built["coat"], base, p["coat_weight"], None if clear else color,
+                           "albedo" if clear else "transmittance", darkening)
+        self._layers.append(layer)
+        return layer
+
+    def _darkening_roughness(self, r, eta_s):
+        """r_b = lerp(r_d, r_m, M), r_d = lerp(1, r, clamp(xi F_s, 0, 1)), r_m = r
+        [OpenPBR2026, §Coat darkening]: how specular the base looks through the coat."""
+        p = self.params
+        M = p["base_metalness"]
+        if eta_s is None:
+            return np.clip(r, 0.0, 1.0)
+        t = np.clip(p["specular_weight"] * mapping.reflectance_at_normal(eta_s), 0.0, 1.0)
+        r_d = (1.0 - t) + t * r
+        return np.clip((1.0 - M) * r_d + M * r, 0.0, 1.0)
+
+
+def _acts(p, name) -> bool:
+    """Whether the planned input ``name`` is away from its default where its gate is on."""
+    default = PARAMETERS[name].default
+    if PARAMETERS[name].kind == "vector":
+        changed = np.any(np.abs(p[name] - np.asarray(default)) > 1e-12, axis=-1)
+    elif PARAMETERS[name].kind == "bool":
+        changed = np.asarray(p[name] != default)
+    else:
+        changed = p[name] != np.asarray(default)
+        if PARAMETERS[name].kind == "color":
+            changed = np.any(changed, axis=-1)
+    gate = GATES.get(name)
+    if gate is not None:
+        changed = changed & (p[gate] != 0.0)
+    return bool(np.any(changed))
+
+
+def _fresnel(eta):
+    return ExactDielectric._new(np.asarray(eta, dtype=np.float64))
+
+
+def _mix(a, b, w):
+    """``Mix(a, b, w)``, or the one of them that was built (the other's weight is 0)."""
+    if a is None or b is None:
+        return b if a is None else a
+    return Mix(a, b, _c(w))
