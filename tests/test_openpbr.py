@@ -56,6 +56,38 @@ def test_white_furnace(slab, top, r, a):
     np.testing.assert_allclose(E, 1.0, atol=FURNACE)
 
 
+HAZE = dict(specular_haze=0.5, specular_haze_spread=0.6)
+
+
+@pytest.mark.parametrize("slab", ["metal", "diffuse sigma=0.5", "glass"])
+@pytest.mark.parametrize("r", [0.0, 0.3])
+def test_white_furnace_with_the_development_branch_haze(slab, r):
+    """The dev_1.2 haze blends two compensated lobes: white stays white."""
+    glass = slab == "glass"
+    m = OpenPBRSurface(**(dict(transmission_weight=1.0) if glass else SLABS[slab]), **HAZE,
+                       specular_roughness=r)
+    wo = np.concatenate([WO, -WO[:1]]) if glass else WO  # light from below passes the glass
+    np.testing.assert_allclose(m.albedo(wo, tol=1e-6), 1.0, atol=FURNACE)
+
+
+def test_haze_of_weight_zero_is_no_haze():
+    wo, wi = ab.frame.normalize(np.random.default_rng(4).normal(size=(2, 200, 3)))
+    for model in ("dev_1.2", "barla2018"):
+        hazy = OpenPBRSurface(base_metalness=0.5, specular_haze=0.0, haze_model=model)
+        np.testing.assert_array_equal(hazy.eval(wo, wi), OpenPBRSurface(base_metalness=0.5)
+                                      .eval(wo, wi))
+
+
+def test_haze_is_the_blend_of_two_roughnesses():
+    """(1 - w) f(r) + w f(lerp(r, 1, spread)) on the metal [dev_1.2 §Specular haze]."""
+    wo, wi = ab.frame.normalize(np.random.default_rng(5).normal(size=(2, 200, 3)))
+    p = dict(base_metalness=1.0, base_color=(0.9, 0.6, 0.5), specular_roughness=0.2)
+    hazy = OpenPBRSurface(**p, specular_haze=0.3, specular_haze_spread=0.5).eval(wo, wi)
+    core = OpenPBRSurface(**p).eval(wo, wi)
+    wide = OpenPBRSurface(**dict(p, specular_roughness=0.6)).eval(wo, wi)
+    np.testing.assert_allclose(hazy, 0.7 * core + 0.3 * wide, rtol=1e-12, atol=1e-300)
+
+
 _unit = st.floats(0.0, 1.0)
 _edge = st.sampled_from([0.0, 1.0]) | _unit
 _colour = st.tuples(_unit, _unit, _unit)
@@ -159,6 +191,9 @@ MATERIALS = {
         base_metalness=0.5, base_color=(0.6, 0.5, 0.4), specular_roughness=0.3,
         coat_weight=0.7, coat_roughness=0.1, fuzz_weight=0.4, fuzz_roughness=0.3,
         base_diffuse_roughness=0.5, darkening_variant="v1.1.1"),
+    "dev_1.2 haze, glass": dict(transmission_weight=1.0, specular_roughness=0.1, **HAZE),
+    "Barla haze, half metal": dict(base_metalness=0.5, base_color=(0.9, 0.7, 0.3),
+                                   specular_roughness=0.15, haze_model="barla2018", **HAZE),
     "everything": dict(base_metalness=0.3, transmission_weight=0.4, subsurface_weight=0.3,
                        base_diffuse_roughness=0.6, specular_roughness=0.35,
                        specular_roughness_anisotropy=0.4, coat_weight=0.5,
@@ -171,7 +206,8 @@ CHI2_CASES = [(name, c) for name in MATERIALS for c in (0.8, 0.3, -0.6)
 
 def _material(name):
     p = dict(MATERIALS[name])
-    return OpenPBRSurface(darkening_variant=p.pop("darkening_variant", "pr253"), **p)
+    return OpenPBRSurface(darkening_variant=p.pop("darkening_variant", "pr253"),
+                          haze_model=p.pop("haze_model", "dev_1.2"), **p)
 
 
 @pytest.mark.parametrize(("name", "cos_theta"), CHI2_CASES)

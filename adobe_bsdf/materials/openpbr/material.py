@@ -26,6 +26,7 @@ from adobe_bsdf.composition import Layer, Mix, Rotated, Sum, Tinted
 from adobe_bsdf.darkening import VARIANTS, Darkening
 from adobe_bsdf.fresnel import ExactDielectric, F82Tint
 from adobe_bsdf.lobes.energy_lookup import conductor_average
+from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
 from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
@@ -36,7 +37,11 @@ from adobe_bsdf.materials.openpbr.parameters import GATES, PARAMETERS, PLANNED
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.tables import ETA_MAX
 
-__all__ = ["OpenPBRSurface", "ETA_RANGE"]
+__all__ = ["OpenPBRSurface", "ETA_RANGE", "HAZE_MODELS"]
+
+#: the specular haze: the development branch's blend of two roughnesses, or the hazy gloss of
+#: [Barla2018]
+HAZE_MODELS = ("dev_1.2", "barla2018")
 
 #: relative indices the energy tables hold (dielectric reflection, Kulla–Conty, darkening)
 ETA_RANGE = (1.0 / ETA_MAX, ETA_MAX)
@@ -98,15 +103,22 @@ class OpenPBRSurface(Material):
         The coat-darkening formula: [Portsmouth2025] (the default: it keeps the naive
         albedo at coat_darkening = 0 and does not shift the hue of a tinted coat) or
         v1.1.1's.
+    haze_model : one of ``HAZE_MODELS``
+        What specular_haze (an extension beyond v1.1.1) means: "dev_1.2" (the default) the
+        development branch's (1 - w) f_core + w f_haze; "barla2018" the composite hazy gloss
+        of [Barla2018] (haziness = specular_haze, haze extent = specular_haze_spread).
     """
 
     #: the inputs, their ranges and defaults
     parameters = PARAMETERS
 
-    def __init__(self, *, darkening_variant: str = "pr253", **params):
+    def __init__(self, *, darkening_variant: str = "pr253", haze_model: str = "dev_1.2",
+                 **params):
         p = self.params = PARAMETERS.validate(params)
         self.darkening_variant = _params.choice("darkening_variant", darkening_variant,
                                                 VARIANTS)
+        self.haze_model = _params.choice("haze_model", haze_model, HAZE_MODELS)
+        self._hazy = _any(p["specular_haze"])
         self.planned = tuple(name for name in PLANNED if _acts(p, name))
         if self.planned:
             warnings.warn(f"OpenPBRSurface: {', '.join(self.planned)} not modelled yet: the "
@@ -117,15 +129,18 @@ class OpenPBRSurface(Material):
         coat = _any(C)
         r = mapping.base_roughening(p["specular_roughness"], p["coat_roughness"], C) \
             if coat else p["specular_roughness"]
-        alphas = mapping.anisotropic_alphas(r, p["specular_roughness_anisotropy"])
+        if self._hazy and self.haze_model == "barla2018" and np.any(r == 0.0):
+            raise ValueError("specular_roughness = 0 with specular_haze > 0 and haze_model = "
+                             "'barla2018': allowed a roughness in (0, 1] (a smooth core has "
+                             "no halo)")
         phi = mapping.tangent_rotation(p["geometry_tangent"])
-        metal = self._metal(alphas, phi) if _any(M) else None
+        metal = self._metal(r, phi) if _any(M) else None
         eta_s = dielectric = None
         if _any(1.0 - M):
             eta_s = mapping.effective_ior(p["specular_ior"], p["coat_ior"], C)
             eta = mapping.specular_ior_modulation(eta_s, p["specular_weight"])
             _in_tables("specular_ior (with specular_weight and the coat)", eta)
-            dielectric = self._dielectric(eta, alphas, phi, built)
+            dielectric = self._dielectric(eta, r, phi, built)
         if metal is not None:
             built["metal"] = metal
         bsdf = _mix(dielectric, metal, M)
@@ -156,29 +171,77 @@ class OpenPBRSurface(Material):
         return material
 
     # -- the slabs --------------------------------------------------------------------------
-    def _metal(self, alphas, phi):
-        """xi F82-tint conductor with Kulla–Conty multiple scattering [OpenPBR2026, §Metal]."""
+    def _alphas(self, r):
+        return mapping.anisotropic_alphas(r, self.params["specular_roughness_anisotropy"])
+
+    def _hazed(self, make, r):
+        """``make(alphas)`` at roughness ``r``, blended with the development branch's haze
+        where specular_haze w > 0: (1 - w) f_core + w f_haze, the haze at
+        r_haze = lerp(r, 1, specular_haze_spread) with the same anisotropy, each lobe
+        compensated on its own [OpenPBR2026 dev_1.2, §Specular haze]."""
+        core = make(self._alphas(r))
+        if not self._hazy:
+            return core
+        p = self.params
+        w, spread = p["specular_haze"], p["specular_haze_spread"]
+        haze = make(self._alphas(r + (1.0 - r) * spread))
+        return Sum._new((core, haze), [_c(1.0 - w), _c(w)])
+
+    def _barla(self, lobe, core_reflectivity, r, **kwargs):
+        """The hazy-gloss alternative [Barla2018]: ``lobe`` (``HazyGloss`` or
+        ``HazyDielectric``) of haziness specular_haze and haze extent specular_haze_spread
+        over the core alphas of ``r``."""
+        p = self.params
+        return lobe(core_reflectivity, p["specular_haze"], p["specular_haze_spread"],
+                    *self._alphas(r), **kwargs)
+
+    def _metal(self, r, phi):
+        """xi F82-tint conductor with Kulla–Conty multiple scattering [OpenPBR2026, §Metal];
+        with haze, the blend of ``_hazed`` or the hazy gloss of [Barla2018] (Gulbrandsen's
+        exact conductor of F0 and edge tint specular_color; no compensation)."""
         p = self.params
         f0 = _c(p["base_weight"]) * p["base_color"]
         tint = p["specular_color"]
-        microfacets = GGX._new(*alphas)
-        f_ms = mapping.metal_multiple_scattering(mapping.f82_average(f0, tint),
-                                                 conductor_average(microfacets))
-        lobe = ConductorMS._new(microfacets, F82Tint._new(f0, tint, _F90, _EXPONENT),
-                                np.sqrt(f_ms))
+
+        def conductor(alphas):
+            microfacets = GGX._new(*alphas)
+            f_ms = mapping.metal_multiple_scattering(mapping.f82_average(f0, tint),
+                                                     conductor_average(microfacets))
+            return ConductorMS._new(microfacets, F82Tint._new(f0, tint, _F90, _EXPONENT),
+                                    np.sqrt(f_ms))
+
+        if self._hazy and self.haze_model == "barla2018":
+            lobe = self._barla(HazyGloss, f0, r, edge_tint=tint)
+        else:
+            lobe = self._hazed(conductor, r)
         xi = np.minimum(p["specular_weight"], 1.0)
         if np.any(xi != 1.0):
             lobe = Sum._new((lobe,), [_c(xi)])
         return _turned(lobe, phi)
 
-    def _dielectric(self, eta, alphas, phi, built):
-        """mix(mix(glossy-diffuse, subsurface, S), translucent, T) under one interface."""
+    def _dielectric(self, eta, r, phi, built):
+        """mix(mix(glossy-diffuse, subsurface, S), translucent, T) under one interface; with
+        haze, each interface lobe as ``_metal``'s (the hazy gloss of [Barla2018] with the
+        core reflectivity F0(eta'): ``HazyGloss`` with no edge tint, an exact Fresnel of a
+        real index, for the reflection over the diffuse, ``HazyDielectric`` for the
+        translucent base)."""
         p = self.params
         S, T = p["subsurface_weight"], p["transmission_weight"]
+        barla = self._hazy and self.haze_model == "barla2018"
+        if barla and np.any(eta < 1.0):
+            raise ValueError("specular_ior below the index above it with haze_model = "
+                             "'barla2018': allowed a relative index >= 1 (the hazy-gloss "
+                             "mapping's index is n_below / n_above >= 1)")
         opaque = None
         if _any(1.0 - T):
-            built["specular"] = _turned(DielectricReflection._new(GGX._new(*alphas),
-                                                                  _fresnel(eta)), phi)
+            if barla:
+                reflection = self._barla(HazyGloss, _c(mapping.reflectance_at_normal(eta)), r,
+                                         edge_tint=0.0)
+            else:
+                reflection = self._hazed(
+                    lambda alphas: DielectricReflection._new(GGX._new(*alphas),
+                                                             _fresnel(eta)), r)
+            built["specular"] = _turned(reflection, phi)
             sigma = p["base_diffuse_roughness"]
             if _any(1.0 - S):
                 rho = _c(p["base_weight"]) * p["base_color"]
@@ -191,7 +254,11 @@ class OpenPBRSurface(Material):
                 top = Tinted._new(top, p["specular_color"])
             opaque = Layer._new(top, under)
         if _any(T):
-            built["transmission"] = _turned(DielectricMS._new(eta, GGX._new(*alphas)), phi)
+            if barla:
+                glass = self._barla(HazyDielectric, mapping.reflectance_at_normal(eta), r)
+            else:
+                glass = self._hazed(lambda alphas: DielectricMS._new(eta, GGX._new(*alphas)), r)
+            built["transmission"] = _turned(glass, phi)
         return _mix(opaque, built.get("transmission"), T)
 
     def _coat(self, base, r, eta_s, built):
