@@ -670,7 +670,9 @@ class Layer(Lobe):
         E_top = np.minimum(E_top, 1.0)  # as ``_top_energy``
         E_base, err_base = self.base._albedo_table(wo, with_error)
         c = self.coverage[..., None]
-        W = (1.0 - c) + self._covered(wo, self._t(wo) ** 2, E_top)  # tau(wo, wo) for tau
+        # the base's weight from what the top passes on, as eval has it (a ``Tinted`` top
+        # reflects E_top but passes 1 - its untinted albedo)
+        W = (1.0 - c) + self._covered(wo, self._t(wo) ** 2, self._top_energy(wo))
         value = c * E_top + W * E_base
         # |d value / d E_top| = c |1 - tau T D E_base| <= c
         return value, (c * err_top + W * err_base) if with_error else None

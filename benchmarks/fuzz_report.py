@@ -13,7 +13,6 @@
 
 from __future__ import annotations
 
-import argparse
 import time
 import warnings
 from pathlib import Path
@@ -22,7 +21,7 @@ import numpy as np
 
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen, albedo_fit, ltc_coefficients
 from adobe_bsdf.lobes.sheen import Sheen
-from benchmarks import generated_by
+from benchmarks import generated_by, pyplot, report_main
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 #: the page that documents the lobe (its docstring, in the API reference)
@@ -245,13 +244,7 @@ def run(out: Path | None = None, smoke: bool = False) -> Path:
     mu, data = curves(smoke)
     parts = (values(), clamp(smoke), small(), methods(smoke), reciprocity(smoke))
     figures = []
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:  # pragma: no cover - matplotlib is a test dependency
-        plt = None
+    plt = pyplot()
     if plt is not None:
         figure(plt, docs / "figures" / "fuzz_albedo.png", mu, data)
         figures = ["fuzz_albedo.png"]
@@ -261,12 +254,7 @@ def run(out: Path | None = None, smoke: bool = False) -> Path:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes (for the tests)")
-    parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
-    args = parser.parse_args(argv)
-    print(run(args.out, args.smoke))
-    return 0
+    return report_main(run, __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,6 @@ matplotlib the figures are left out and the Markdown says so.
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
@@ -27,7 +26,7 @@ import numpy as np
 import adobe_bsdf as ab
 from adobe_bsdf import hazy
 from adobe_bsdf.bsdf import Flags
-from benchmarks import generated_by
+from benchmarks import generated_by, pyplot, report_main
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 N = np.array([0.0, 0.0, 1.0])
@@ -125,16 +124,6 @@ def glass_energy(smoke: bool):
 
 
 # -- figures --------------------------------------------------------------------------------
-def _pyplot():
-    """matplotlib.pyplot on the Agg backend, or None without matplotlib."""
-    try:
-        import matplotlib
-    except ImportError:
-        return None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def figure_kh(plt, path: Path, p: float):
@@ -277,7 +266,7 @@ def run(smoke: bool = False, out: Path | None = None) -> Path:
     masking = masking_energy(smoke)
     glass = glass_energy(smoke)
     figures = {}
-    plt = _pyplot()
+    plt = pyplot()
     if plt is not None:
         figures = {"kh": [], "slices": "hazy_slices.png"}
         p_fig3 = float(hazy.peak_ratio((0.01, 0.01), hazy.wide_roughness(0.01, 0.01, 7.0)))
@@ -292,12 +281,7 @@ def run(smoke: bool = False, out: Path | None = None) -> Path:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes (for the tests)")
-    parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
-    args = parser.parse_args(argv)
-    print(run(args.smoke, args.out))
-    return 0
+    return report_main(lambda out, smoke: run(smoke, out), __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":

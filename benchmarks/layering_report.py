@@ -22,7 +22,7 @@ from adobe_bsdf.composition import Layer
 from adobe_bsdf.darkening import Darkening
 from adobe_bsdf.layered import LayeredReference
 from adobe_bsdf.lobes import ConductorMS, DielectricMS, DielectricReflection, Lambert
-from benchmarks import generated_by
+from benchmarks import generated_by, pyplot
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 COAT_IORS = (1.3, 1.5, 2.0)
@@ -210,13 +210,7 @@ def run(out: Path | None = None, smoke: bool = False) -> Path:
     rows = measure(smoke)
     summ = summary(rows)
     figures = []
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:  # pragma: no cover - matplotlib is a test dependency
-        plt = None
+    plt = pyplot()
     if plt is not None:
         figure_albedo(plt, docs / "figures" / "layering_albedo.png", rows)
         figure_slices(plt, docs / "figures" / "layering_slices.png",

@@ -12,6 +12,8 @@ import json
 import math
 from pathlib import Path
 
+from benchmarks import pyplot
+
 __all__ = ["write", "markdown", "HEADER", "DOCS", "RESULTS"]
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -93,15 +95,6 @@ def _clean(x):
 
 
 # --- plots -----------------------------------------------------------------------------------
-def _pyplot():
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        return None
-    return plt
 
 
 def _plot_throughput(plt, tp: dict, path: Path) -> bool:
@@ -493,7 +486,7 @@ def _tradeoff(results: dict, figure_dir: Path, smoke: bool) -> list:
 
 def markdown(results: dict, figure_dir: Path, link_prefix: str, smoke: bool) -> str:
     """The whole ``performance.md``; writes its figures into ``figure_dir``."""
-    plt = _pyplot()
+    plt = pyplot()
     figures = {}
     if plt is not None:
         figure_dir.mkdir(parents=True, exist_ok=True)

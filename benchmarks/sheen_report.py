@@ -16,7 +16,6 @@
 
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
@@ -25,7 +24,7 @@ import numpy as np
 from adobe_bsdf import tables
 from adobe_bsdf.lobes.sheen import R_SIMILAR, Sheen
 from adobe_bsdf.tables.catalog import sheen_energy
-from benchmarks import generated_by
+from benchmarks import generated_by, report_main
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 
@@ -336,12 +335,7 @@ def run(out: Path | None = None, smoke: bool = False) -> Path:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes (for the tests)")
-    parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
-    args = parser.parse_args(argv)
-    print(run(args.out, args.smoke))
-    return 0
+    return report_main(run, __doc__.splitlines()[0], argv)
 
 
 if __name__ == "__main__":

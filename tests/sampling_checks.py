@@ -1,4 +1,6 @@
-"""Shared assertion of the lobes' sampling tests."""
+"""Shared assertions of the lobes' and materials' sampling and energy tests."""
+
+import warnings
 
 import numpy as np
 
@@ -18,3 +20,15 @@ def assert_sampling_matches(lobe, cos_theta, azimuth, seed, n_tests, n_samples=3
     assert result.passed, str(result)
     weights = checks.weight_consistency(lobe, wo, n_samples=20_000, rtol=WEIGHT)
     assert weights.passed, weights
+
+
+def assert_no_energy_gain(material, wo, bound, context=None, mc_samples=40_000):
+    """The albedo at ``wo`` (quadrature of eval plus the delta branches, energy convention) is
+    at most ``bound``; where the quadrature reports a lobe narrower than its grid resolves
+    (a warning about its guard samples), Monte Carlo with 5 standard errors of slack."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        E, sigma = material.albedo(wo, tol=1e-5), 0.0
+    if any("guard samples" in str(w.message) for w in caught):
+        E, sigma = material.albedo(wo, method="mc", n_samples=mc_samples, return_error=True)
+    assert np.all(E <= bound + 5.0 * sigma), (context, E)

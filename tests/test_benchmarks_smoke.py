@@ -247,3 +247,14 @@ def test_layering_report_writes_its_page(tmp_path):
         assert f"| {name} |" in text
     assert (tmp_path / "figures" / "layering_albedo.png").exists()
     assert (tmp_path / "figures" / "layering_slices.png").exists()
+
+
+def test_openpbr_report_writes_its_page(tmp_path):
+    from benchmarks import openpbr_report
+
+    text = openpbr_report.run(tmp_path, smoke=True).read_text(encoding="utf-8")
+    for section in ("White furnace", "Sampling", "Reciprocity",
+                    "Against Adobe's OpenPBR implementation", "Cost"):
+        assert f"## {section}" in text
+    for name in openpbr_report.PEER:
+        assert f"| {name} | 0.9 |" in text

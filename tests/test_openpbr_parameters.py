@@ -3,7 +3,6 @@ against the spec, the draft's inputs onto the released ones, the v1.1.1 mappings
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import warnings
 from pathlib import Path
@@ -23,6 +22,7 @@ from adobe_bsdf.materials.openpbr import (
     draft,
     mapping,
 )
+from tests.test_parameter_spec import _tables_script
 from tests.tolerances import EXACT, QUADRATURE
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -58,14 +58,6 @@ V111 = {
     "geometry_normal": (N, None, False), "geometry_tangent": (T, None, False),
     "geometry_coat_normal": (N, None, False), "geometry_coat_tangent": (T, None, False),
 }
-
-
-def _tables_script():
-    spec = importlib.util.spec_from_file_location("parameter_tables",
-                                                  ROOT / "docs" / "parameter_tables.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_spec_has_the_41_released_inputs_with_their_defaults_and_ranges():

@@ -1,5 +1,6 @@
-"""Named parameter sets from the source papers, each a dict of keyword arguments of the
-constructor it is for, so that it builds its material or lobe directly.
+"""Named parameter sets from the source papers (and example materials), each a dict of
+keyword arguments of the constructor it is for, so that it builds its material or lobe
+directly.
 
 ``metals``       ``ab.materials.AdobeStandardMaterial(**metals[name])``: [Kutz2021, Table 1] as
                  ``{"metallic": 1.0, "base_color": F0, "specular_edge_color": F82 tint}`` in
@@ -18,6 +19,11 @@ constructor it is for, so that it builds its material or lobe directly.
                  ``AdobeStandardMaterial(ior=d["ior"],
                  dispersion=ab.dispersion.abbe_to_dispersion(d["abbe"]))``: the Abbe number is
                  not an ASM keyword; ``abbe_to_dispersion`` gives its "Dispersion".
+``openpbr``      ``ab.materials.OpenPBRSurface(**openpbr[name])``: example materials that
+                 together use every lobe and option of the surface (the sampling tests and
+                 ``benchmarks/openpbr_report.py`` run each), among them six measured with
+                 another implementation ("default", "white metal", "copper", "coated blue",
+                 "fuzz grey", "EON white").
 
 [Barla2018, Table 3] names its reflectivity column r_p: the peak (core) reflectivity r_c of
 [Barla2018, §2.2].
@@ -31,7 +37,7 @@ References
 
 from __future__ import annotations
 
-__all__ = ["hazy", "hazy_sweeps", "metals", "dispersion", "media"]
+__all__ = ["hazy", "hazy_sweeps", "metals", "dispersion", "media", "openpbr"]
 
 
 def _medium(distance, color, rayleigh):
@@ -113,4 +119,49 @@ hazy_sweeps = {
     # Fig. 10: beta_h in [0, 0.99]
     "fig10": ({"core_reflectivity": 0.5, "edge_tint": 0.0, "alpha_x": 0.026,
                "haze_extent": 5.0}, "haziness", (0.0, 0.99)),
+}
+
+
+_HAZE = {"specular_haze": 0.5, "specular_haze_spread": 0.6}
+openpbr = {
+    "default": {},
+    "white metal": {"base_metalness": 1.0, "base_color": 1.0, "specular_color": 1.0,
+                    "specular_roughness": 0.2},
+    "copper": {"base_metalness": 1.0, "base_color": (0.955, 0.638, 0.538),
+               "specular_color": 1.0, "specular_roughness": 0.3},
+    "coated blue": {"base_color": (0.1, 0.2, 0.7), "specular_roughness": 0.3,
+                    "coat_weight": 1.0, "coat_roughness": 0.05, "coat_ior": 1.5},
+    "fuzz grey": {"base_color": 0.5, "specular_roughness": 0.5, "fuzz_weight": 1.0,
+                  "fuzz_color": 0.8, "fuzz_roughness": 0.7},
+    "EON white": {"base_color": 1.0, "specular_color": 1.0, "base_diffuse_roughness": 1.0,
+                  "specular_roughness": 0.4},
+    "rough diffuse, tinted specular": {"base_color": (0.8, 0.3, 0.2),
+                                       "base_diffuse_roughness": 0.8, "specular_roughness": 0.6,
+                                       "specular_color": (1.0, 0.8, 0.6)},
+    "copper anisotropic": {"base_metalness": 1.0, "base_color": (0.955, 0.638, 0.538),
+                           "specular_color": (1.0, 0.9, 0.8), "specular_roughness": 0.35,
+                           "specular_roughness_anisotropy": 0.8,
+                           "geometry_tangent": (0.6, 0.8, 0.0)},
+    "tinted anisotropic coat": {"base_color": (0.1, 0.2, 0.7), "coat_weight": 1.0,
+                                "coat_roughness": 0.3, "coat_color": (0.9, 0.8, 0.6),
+                                "coat_roughness_anisotropy": 0.5,
+                                "geometry_coat_tangent": (0.0, 1.0, 0.0)},
+    "glass": {"transmission_weight": 1.0, "specular_roughness": 0.2},
+    "coated glass, denser coat": {"transmission_weight": 1.0, "specular_roughness": 0.4,
+                                  "specular_ior": 1.4, "coat_weight": 1.0, "coat_ior": 1.8,
+                                  "coat_roughness": 0.2},
+    "subsurface half": {"subsurface_weight": 0.5, "subsurface_color": (0.9, 0.6, 0.4),
+                        "base_diffuse_roughness": 0.3},
+    "half metal, coat, fuzz, v1.1.1 darkening": {
+        "base_metalness": 0.5, "base_color": (0.6, 0.5, 0.4), "specular_roughness": 0.3,
+        "coat_weight": 0.7, "coat_roughness": 0.1, "fuzz_weight": 0.4, "fuzz_roughness": 0.3,
+        "base_diffuse_roughness": 0.5, "darkening_variant": "v1.1.1"},
+    "dev_1.2 haze, glass": {"transmission_weight": 1.0, "specular_roughness": 0.1, **_HAZE},
+    "Barla haze, half metal": {"base_metalness": 0.5, "base_color": (0.9, 0.7, 0.3),
+                               "specular_roughness": 0.15, "haze_model": "barla2018", **_HAZE},
+    "everything": {"base_metalness": 0.3, "transmission_weight": 0.4, "subsurface_weight": 0.3,
+                   "base_diffuse_roughness": 0.6, "specular_roughness": 0.35,
+                   "specular_roughness_anisotropy": 0.4, "coat_weight": 0.5,
+                   "coat_color": (0.9, 0.9, 0.7), "fuzz_weight": 0.5, "fuzz_roughness": 0.5,
+                   "specular_weight": 0.7},
 }

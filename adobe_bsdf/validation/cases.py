@@ -32,6 +32,8 @@ from adobe_bsdf.lobes import (
     Sheen,
 )
 from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
+from adobe_bsdf.lobes.ltc_sheen import LTCSheen
+from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.materials.asm import (
     AdobeStandardMaterial,
     ASMDiffuse,
@@ -40,6 +42,7 @@ from adobe_bsdf.materials.asm import (
     asm_dielectric_base,
     asm_metal,
 )
+from adobe_bsdf.materials.openpbr import OpenPBRSurface
 
 __all__ = ["CheckCase", "cases", "FURNACE_TOL", "FURNACE_TOL_DIELECTRIC",
            "FURNACE_TOL_ANISOTROPIC"]
@@ -265,6 +268,25 @@ _CASES = (
                             ConductorMS(0.3, base_color=(0.9, 0.5, 0.2)),
                             darkening=Darkening()), cos_theta_o=(1.0, 0.5, 0.1),
               reciprocal=False),
+    # -- the lobes and the material of OpenPBR Surface
+    CheckCase("EON white sigma=1", lambda: EnergyPreservingOrenNayar(1.0, 1.0),
+              cos_theta_o=(1.0, 0.5, 0.05), expected_albedo=_one),
+    CheckCase("EON (0.9,0.5,0.2) sigma=0.5",
+              lambda: EnergyPreservingOrenNayar((0.9, 0.5, 0.2), 0.5)),
+    CheckCase("LTCSheen (1,0.8,0.6) alpha=0.5", lambda: LTCSheen((1.0, 0.8, 0.6), 0.5),
+              cos_theta_o=(1.0, 0.5, 0.1), reciprocal=False),
+    CheckCase("OpenPBR white rough diffuse + coat + fuzz",
+              lambda: OpenPBRSurface(base_color=1.0, base_diffuse_roughness=1.0,
+                                     specular_roughness=0.4, coat_weight=1.0,
+                                     coat_roughness=0.2, fuzz_weight=1.0),
+              expected_albedo=_one, furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES,
+              reciprocal=False),
+    CheckCase("OpenPBR white metal r=0.3 anisotropic",
+              lambda: OpenPBRSurface(base_metalness=1.0, base_color=1.0,
+                                     specular_roughness=0.3,
+                                     specular_roughness_anisotropy=0.8,
+                                     geometry_tangent=(0.6, 0.8, 0.0)),
+              expected_albedo=_one, furnace_tol=FURNACE_TOL_ANISOTROPIC, tags=_TABLES),
 )
 
 

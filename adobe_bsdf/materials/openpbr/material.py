@@ -146,7 +146,7 @@ class OpenPBRSurface(Material):
         bsdf = _mix(dielectric, metal, M)
         self._layers = []
         if coat:
-            bsdf = self._coat(bsdf, r, eta_s, built)
+            bsdf = self._coat(bsdf, eta_s, built)
         F = p["fuzz_weight"]
         if _any(F):
             built["fuzz"] = LTCSheen(1.0, p["fuzz_roughness"])
@@ -261,7 +261,7 @@ class OpenPBRSurface(Material):
             built["transmission"] = _turned(glass, phi)
         return _mix(opaque, built.get("transmission"), T)
 
-    def _coat(self, base, r, eta_s, built):
+    def _coat(self, base, eta_s, built):
         """The coat over ``base`` [OpenPBR2026, §Coat]."""
         p = self.params
         n_c = p["coat_ior"]
@@ -275,18 +275,19 @@ class OpenPBRSurface(Material):
         clear = not np.any(color != 1.0)
         darkening = None
         if _any(p["coat_darkening"]):
-            darkening = Darkening(p["coat_darkening"], self._darkening_roughness(r, eta_s),
+            darkening = Darkening(p["coat_darkening"], self._darkening_roughness(eta_s),
                                   self.darkening_variant)
         layer = Layer._new(built["coat"], base, p["coat_weight"], None if clear else color,
                            "albedo" if clear else "transmittance", darkening)
         self._layers.append(layer)
         return layer
 
-    def _darkening_roughness(self, r, eta_s):
-        """r_b = lerp(r_d, r_m, M), r_d = lerp(1, r, clamp(xi F_s, 0, 1)), r_m = r
-        [OpenPBR2026, §Coat darkening]: how specular the base looks through the coat."""
+    def _darkening_roughness(self, eta_s):
+        """r_b = lerp(r_d, r_m, M), r_d = lerp(1, r, clamp(xi F_s, 0, 1)), r_m = r, with r =
+        specular_roughness [OpenPBR2026, §Coat darkening]: how specular the base looks
+        through the coat."""
         p = self.params
-        M = p["base_metalness"]
+        M, r = p["base_metalness"], p["specular_roughness"]
         if eta_s is None:
             return np.clip(r, 0.0, 1.0)
         t = np.clip(p["specular_weight"] * mapping.reflectance_at_normal(eta_s), 0.0, 1.0)
