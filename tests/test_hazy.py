@@ -389,3 +389,11 @@ def test_furnace_is_the_weighted_sum_of_independent_component_energies(r_c, beta
     albedo = lobe.albedo(wo, tol=1e-8)
     np.testing.assert_allclose(albedo, expected, atol=1e-6)
     assert np.all(albedo <= 1.0 + 1e-6)
+
+
+def test_compound_masking_has_no_table_albedo():
+    """The energy tables hold GGX: the compound-masking mixture raises ValueError (use the
+    quadrature), as any other distribution does."""
+    lobe = ab.lobes.HazyGloss(0.5, 0.3, 0.4, 0.1, compound_masking=True)
+    with pytest.raises(ValueError, match="GGX only"):
+        lobe.albedo(np.array([0.0, 0.6, 0.8]), method="table")

@@ -66,6 +66,20 @@ def test_average_weights_integrate_the_interpolant_exactly():
     assert abs(axis.average_weights() @ axis.nodes() - 2.0 / 3.0) < 1e-14
 
 
+def test_a_batch_of_one_repeated_point_is_looked_up_bit_for_bit():
+    """A large batch of one point (one view direction) is interpolated once and broadcast:
+    the same bits as each element on its own, values and errors."""
+    table = tables.get("ggx_dielectric_inside")
+    mu, alpha, eta = np.full(500, 0.3), np.full(500, 0.25), 1.4
+    one = table(np.array([0.3]), np.array([0.25]), eta)[0]
+    batch = table(mu, alpha, eta)
+    assert batch.shape == (500,) + one.shape
+    assert np.array_equal(batch, np.broadcast_to(one, batch.shape))
+    mixed = table(np.r_[mu, 0.7], np.r_[alpha, 0.25], eta)  # not one point: the full path
+    assert np.array_equal(mixed[:500], batch) and np.array_equal(
+        table.error(mu, alpha, eta)[0], table.error(np.array([0.3]), np.array([0.25]), eta)[0])
+
+
 @pytest.mark.parametrize("name, fixed", [("ggx_conductor", {"alpha": 0.37}),
                                          ("ggx_dielectric_inside", {"alpha": 0.2, "eta": 1.33}),
                                          ("asm_diffuse_L", {"roughness": 0.0, "ior": 4.0})])

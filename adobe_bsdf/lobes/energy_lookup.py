@@ -172,8 +172,11 @@ def _where(mask, value, fill):
 
 def is_anisotropic(distribution: GGX) -> np.ndarray:
     """Where ``distribution`` is rough with alpha_x != alpha_y: the anisotropic tables'
-    domain (isotropic lobes read the isotropic tables unchanged)."""
+    domain (isotropic lobes read the isotropic tables unchanged). The tables hold GGX only:
+    another distribution raises ``ValueError`` (``table_alpha``)."""
     d = distribution
+    if not isinstance(d, GGX):
+        table_alpha(d)  # raises
     return ~d.smooth & (d.alpha_x != d.alpha_y)
 
 

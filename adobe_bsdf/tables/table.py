@@ -29,6 +29,10 @@ from adobe_bsdf import _params
 __all__ = ["Axis", "TableSpec", "Table", "TableError", "save", "load", "PARAMETERISATIONS"]
 
 
+#: batches above this size whose coordinates are all one point are looked up once
+_CONSTANT_BATCH = 64
+
+
 class TableError(ValueError):
     """A table file that is missing, corrupt, or baked for another declaration, or a table
     whose values or errors are not all finite."""
@@ -323,6 +327,14 @@ class Table:
         if len(coords) != len(axes):
             raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
                              f"({', '.join(a.name for a in axes)}), got {len(coords)}")
+        coords = [np.asarray(c) for c in coords]
+        shape = np.broadcast_shapes(*(c.shape for c in coords))
+        if np.prod(shape, dtype=np.int64) > _CONSTANT_BATCH and all(
+                c.size and c.min() == c.max() for c in coords):
+            # one point repeated (a batch of one view direction): looked up once, the same
+            # arithmetic, so the same bits, broadcast back
+            one = self._interpolate(data, [c.reshape(-1)[:1] for c in coords], absolute)
+            return np.broadcast_to(one[0], shape + one.shape[-1:]).copy()
         stencils = [a.stencil_parts(c, self.spec.name) for a, c in zip(axes, coords, strict=True)]
         strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
         base = None  # flat index of every lookup's first stencil node
