@@ -285,3 +285,15 @@ def test_bad_input_is_named(kwargs, name):
 def test_bad_albedo_arguments_are_named(call, name):
     with pytest.raises(ValueError, match=name):
         call()
+
+
+@pytest.mark.parametrize("sigma", [0.0, 0.5, 1.0])
+def test_the_lobes_quadrature_follows_its_kinks(sigma):
+    """``albedo(method="quadrature")`` splits at theta_i = theta_o and at s = 0: it equals the
+    closed form to 1e-12 down to grazing views, and its error estimate is that small too."""
+    mu = np.array([1.0, 0.5, 0.05, 1e-3])
+    wo = np.stack([np.sqrt(1 - mu**2), 0 * mu, mu], -1)
+    lobe = EnergyPreservingOrenNayar((0.9, 0.5, 0.2), sigma)
+    E, error = lobe.albedo(wo, method="quadrature", return_error=True)
+    np.testing.assert_allclose(E, lobe.albedo(wo, method="table"), rtol=0, atol=1e-12)
+    assert np.all(error < 1e-12)
