@@ -13,10 +13,7 @@ from hypothesis import strategies as st
 import adobe_bsdf as ab
 from adobe_bsdf.materials import presets
 from adobe_bsdf.materials.openpbr import OpenPBRSurface
-from adobe_bsdf.validation import checks
-from adobe_bsdf.validation.chi2 import chi2_test
-from tests.sampling_checks import assert_no_energy_gain
-from tests.tolerances import CHI2_ALPHA, WEIGHT
+from tests.sampling_checks import assert_no_energy_gain, assert_sampling_matches
 
 COSINES = (0.9, 0.5, 0.2)
 
@@ -180,13 +177,8 @@ def _material(name):
 def test_chi2(name, cos_theta):
     """sample against the pdf of the whole material (p > 0.01 after Šidák), and every weight
     is f |cos| / pdf to 1e-9."""
-    material = _material(name)
-    wo = _wo(cos_theta)
-    result = chi2_test(material, wo, n_samples=300_000, alpha=CHI2_ALPHA,
-                       n_tests=len(CHI2_CASES), seed=CHI2_CASES.index((name, cos_theta)))
-    assert result.passed, str(result)
-    weights = checks.weight_consistency(material, wo, n_samples=20_000, rtol=WEIGHT)
-    assert weights.passed, weights
+    assert_sampling_matches(_material(name), cos_theta, 0.7,
+                            CHI2_CASES.index((name, cos_theta)), len(CHI2_CASES))
 
 
 # -- structure ----------------------------------------------------------------------------------
