@@ -670,9 +670,11 @@ class Layer(Lobe):
         E_top = np.minimum(E_top, 1.0)  # as ``_top_energy``
         E_base, err_base = self.base._albedo_table(wo, with_error)
         c = self.coverage[..., None]
-        # the base's weight from what the top passes on, as eval has it (a ``Tinted`` top
-        # reflects E_top but passes 1 - its untinted albedo)
-        W = (1.0 - c) + self._covered(wo, self._t(wo) ** 2, self._top_energy(wo))
+        # the base's weight from what the top passes on: a ``Tinted`` top reflects E_top but
+        # passes on 1 - its untinted albedo, as in eval
+        passed = (np.minimum(self.top.lobe._albedo_table(wo, False)[0], 1.0)
+                  if isinstance(self.top, Tinted) else E_top)
+        W = (1.0 - c) + self._covered(wo, self._t(wo) ** 2, passed)
         value = c * E_top + W * E_base
         # |d value / d E_top| = c |1 - tau T D E_base| <= c
         return value, (c * err_top + W * err_base) if with_error else None
