@@ -144,14 +144,12 @@ class OpenPBRSurface(Material):
         if metal is not None:
             built["metal"] = metal
         bsdf = _mix(dielectric, metal, M)
-        self._layers = []
         if coat:
             bsdf = self._coat(bsdf, eta_s, built)
         F = p["fuzz_weight"]
         if _any(F):
             built["fuzz"] = LTCSheen(1.0, p["fuzz_roughness"])
             bsdf = Layer._new(Tinted._new(built["fuzz"], p["fuzz_color"]), bsdf, F)
-            self._layers.append(bsdf)
         super().__init__(bsdf, built)
 
     def __repr__(self) -> str:
@@ -277,10 +275,8 @@ class OpenPBRSurface(Material):
         if _any(p["coat_darkening"]):
             darkening = Darkening(p["coat_darkening"], self._darkening_roughness(eta_s),
                                   self.darkening_variant)
-        layer = Layer._new(built["coat"], base, p["coat_weight"], None if clear else color,
-                           "albedo" if clear else "transmittance", darkening)
-        self._layers.append(layer)
-        return layer
+        return Layer._new(built["coat"], base, p["coat_weight"], None if clear else color,
+                          "albedo" if clear else "transmittance", darkening)
 
     def _darkening_roughness(self, eta_s):
         """r_b = lerp(r_d, r_m, M), r_d = lerp(1, r, clamp(xi F_s, 0, 1)), r_m = r, with r =
