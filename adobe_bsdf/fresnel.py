@@ -129,6 +129,9 @@ def _dielectric_k(c, k, eta2) -> np.ndarray:
         R = r_s * r_s
         R += r_p * r_p
         R *= 0.5
+    # |r_s|, |r_p| <= 1, so R <= 1; where c_t is rounded (grazing c, c^2 underflowing) the
+    # squares can exceed 1 by an ulp, and F > 1 times a saturated D V would overflow to inf
+    R = np.minimum(R, 1.0)
     if scalar:
         return R if tir is None else np.where(tir, 1.0, R)
     return np.where(k == 0.0, 0.0, np.where(tir, 1.0, R))

@@ -31,6 +31,7 @@ from adobe_bsdf.materials import OpenPBRSurface, presets
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation.chi2 import chi2_test
 from benchmarks import generated_by, report_main
+from benchmarks.throughput import memory_pass
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 METHOD_PAGE = "openpbr.md"
@@ -171,7 +172,8 @@ def peer():
 
 
 def _median_time(fn, args, runs):
-    """Median wall time of ``fn(*args)`` over ``runs`` calls."""
+    """Median wall time of ``fn(*args)`` over ``runs`` calls after one uncounted call."""
+    fn(*args)
     times = []
     for _ in range(runs):
         start = time.perf_counter()
@@ -181,8 +183,9 @@ def _median_time(fn, args, runs):
 
 
 def cost(smoke):
-    """Rows (label, lobes, eval seconds, sample seconds) on the same n pairs; the first two
-    are a dielectric reflection over a diffuse built by hand."""
+    """``(n, rows, pass)``: rows (label, lobes, eval seconds, sample seconds) on the same n
+    pairs, the first two a dielectric reflection over a diffuse built by hand, and the
+    seconds of one memory pass over n colours (``throughput.memory_pass``)."""
     n, runs = (2_000, 2) if smoke else (10_000, 3)
     rng = np.random.default_rng(3)
     wo, wi = frame.normalize(rng.normal(size=(2, n, 3)))
@@ -198,7 +201,7 @@ def cost(smoke):
             lobes.append((name, ", ".join(m.lobes), m))
     rows = [(label, names, _median_time(lobe.eval, (wo, wi), runs),
              _median_time(lobe.sample, (wo, u), runs)) for label, names, lobe in lobes]
-    return n, rows
+    return n, rows, memory_pass(n, runs)[0]
 
 
 # -- the page ----------------------------------------------------------------------------------
@@ -259,16 +262,20 @@ def _markdown(furnace_rows, haze_rows, sampling_rows, reciprocity_rows, peer_row
               f"{_rgb(eon[-1][2])} at cos θ_o = {eon[-1][1]:g} where the peer reflects "
               f"{_rgb(eon[-1][3])}: the specification's white furnace asks for 1, which the "
               "analytic EON compensation keeps."]
-    n, rows = cost_data
+    n, rows, one_pass = cost_data
     base_eval, base_sample = rows[0][2], rows[0][3]
     lines += ["", "## Cost", "",
               f"`eval` and `sample` on the same {n} direction pairs (median of runs, all "
               "threads), relative to a dielectric reflection over a Lambertian diffuse built "
-              "by hand (`Layer(DielectricReflection, Lambert)`); lobes of zero weight are not "
-              "built, so the default material is that reflection over an EON diffuse.", "",
-              "| material | lobes | eval (s) | × | sample (s) | × |", "|---|---|---|---|---|---|"]
-    lines += [f"| {label} | {lobes} | {e:.3f} | {e / base_eval:.2f} | {s:.3f} | "
-              f"{s / base_sample:.2f} |" for label, lobes, e, s in rows]
+              "by hand (`Layer(DielectricReflection, Lambert)`), and in memory passes (the "
+              f"time of `np.add` over {n} colours, {one_pass * 1e6:.1f} µs in this run); "
+              "lobes of zero weight are not built, so the default material is that "
+              "reflection over an EON diffuse.", "",
+              "| material | lobes | eval (s) | passes | × | sample (s) | passes | × |",
+              "|---|---|---|---|---|---|---|---|"]
+    lines += [f"| {label} | {lobes} | {e:.4f} | {e / one_pass:.0f} | {e / base_eval:.2f} | "
+              f"{s:.4f} | {s / one_pass:.0f} | {s / base_sample:.2f} |"
+              for label, lobes, e, s in rows]
     return "\n".join(lines) + "\n"
 
 

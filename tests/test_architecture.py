@@ -85,3 +85,15 @@ def test_every_citation_resolves(path):
     cited = set(re.findall(r"\[([A-Z][A-Za-z'-]*\d{4}[a-z]?)[,\]]", path.read_text()))
     missing = sorted(cited - keys)
     assert not missing, f"{path.relative_to(ROOT)} cites {missing}, not in docs/references.md"
+
+
+def test_every_subpackage_is_installed():
+    """pyproject's explicit package list names every package folder (a wheel holds only
+    those; an editable install would hide a missing one)."""
+    import tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+                 ["packages"])
+    found = {".".join(p.parent.relative_to(ROOT).parts)
+             for p in (ROOT / "adobe_bsdf").rglob("__init__.py")}
+    assert found <= listed, sorted(found - listed)

@@ -256,5 +256,6 @@ def test_openpbr_report_writes_its_page(tmp_path):
     for section in ("White furnace", "Sampling", "Reciprocity",
                     "Against Adobe's OpenPBR implementation", "Cost"):
         assert f"## {section}" in text
+    assert "| material | lobes | eval (s) | passes |" in text
     for name in openpbr_report.PEER:
         assert f"| {name} | 0.9 |" in text

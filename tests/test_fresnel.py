@@ -190,6 +190,17 @@ def test_extremes_are_finite():
     assert np.all(np.isfinite(F.conductor(mu, [1e-3, 1.0, 50.0], [0.0, 1e-9, 100.0])))
 
 
+def test_dielectric_never_exceeds_one_at_grazing():
+    """At c = 0 the exact amplitudes are r_s = r_p = -1 (R = 1); the rounded c_t must not
+    push R above 1 (a lobe multiplies F into a D V saturated at the float64 maximum, where
+    1 + 1 ulp overflows to inf)."""
+    eta = np.linspace(0.2, 4.0, 20001)
+    for c in (0.0, 5e-324, 1e-310, 1e-160):
+        R = F.dielectric(np.full_like(eta, c), eta)
+        assert np.all(R <= 1.0)
+        np.testing.assert_allclose(R[eta != 1.0], 1.0, atol=1e-15)
+
+
 def _fresnel_decimal(c, eta):
     """Textbook dielectric Fresnel in 50-digit decimal arithmetic (independent reference)."""
     from decimal import Decimal, getcontext

@@ -407,10 +407,15 @@ def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,
     """``(E_R, error)`` of the GGX reflection of a dielectric interface at cosine ``mu`` > 0:
     the reflection channel of table ``name`` at ``table_axes`` (the table's own coordinates),
     integrated where ``near_matched(ratio, mu)`` and ``where`` (``ratio`` the index ratio,
-    ``eta_seen`` the relative index seen from ``wo``, ``alpha`` the GGX alpha, 0 smooth)."""
+    ``eta_seen`` the relative index seen from ``wo``, ``alpha`` the GGX alpha, 0 smooth); 0
+    where ``ratio`` is 1 (index-matched: no interface)."""
     E, error = lookup(name, mu, with_error, channel=0, **table_axes)
     E = np.maximum(E, 0.0)  # interpolation overshoot below 0 near eta = 1
-    near = near_matched(ratio, mu) & where
+    matched = ratio == 1.0  # no interface: F = 0, nothing is reflected, exactly
+    if np.any(matched):
+        E = np.where(matched, 0.0, E)
+        error = None if error is None else np.where(matched, 0.0, error)
+    near = near_matched(ratio, mu) & where & ~matched
     if np.any(near):
         shape = np.broadcast_shapes(E.shape, near.shape)
         E, near = np.array(np.broadcast_to(E, shape)), np.broadcast_to(near, shape)
