@@ -100,3 +100,14 @@ def test_tangent_plane_is_zero():
     for lobe in (ab.lobes.Dielectric(1.5, 0.3), ab.lobes.Dielectric(1.0001, 0.3),
                  ab.lobes.DielectricReflection(1.0001, 0.3)):
         assert lobe.albedo(wo, method="table")[0] == 0.0
+
+
+def test_index_matched_reflection_is_exactly_zero():
+    """eta = 1 is no interface: F = 0, so the reflection's table albedo is exactly 0 inside
+    the band too (read, not integrated), as the lobe's eval is."""
+    mu = np.array([1e-6, 1e-3, 0.5 * MATCHED_MU, 0.3, 1.0])
+    wo = np.stack([_grazing(m) for m in mu])
+    for alpha in (0.01, 0.3, 1.0):
+        lobe = ab.lobes.DielectricReflection(1.0, alpha)
+        np.testing.assert_array_equal(lobe.albedo(wo, method="table"), 0.0)
+        np.testing.assert_array_equal(lobe.eval(wo, wo * [-1, -1, 1]), 0.0)
