@@ -118,6 +118,8 @@ class Flags(enum.IntFlag):
     DIFFUSE = 4
     GLOSSY = 8
     DELTA = 16
+    #: a pass-through event (no interface: wi = -wo, throughput 1), as Mitsuba's ``Null``
+    NULL = 32
 
 
 class BSDFSample(NamedTuple):

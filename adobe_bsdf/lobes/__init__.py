@@ -16,6 +16,7 @@
 ``EnergyPreservingOrenNayar(albedo, roughness)`` / ``EON``    rough diffuse [PortsmouthEON2025]
 ``LTCSheen(color, roughness)``                               LTC fuzz [Zeltner2022]
 ``HazyGloss(...)``, ``HazyDielectric(...)``                  hazy gloss [Barla2018]
+``PassThrough()``                                            no interface (a null event)
 
 Operators that combine lobes (``Sum``, ``Mix``, ``Tinted``, ``Layer``, ``Rotated``) are in
 ``adobe_bsdf.composition``; material recipes (that of [Kutz2021]) under
@@ -34,10 +35,11 @@ from adobe_bsdf.lobes.kulla_conty import (
 from adobe_bsdf.lobes.lambert import Lambert
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EON, EnergyPreservingOrenNayar
+from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.reflection import Conductor, DielectricReflection, MicrofacetReflection
 from adobe_bsdf.lobes.sheen import Sheen
 
 __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection", "Dielectric",
            "Dispersive", "ConductorMultipleScattering", "ConductorMS",
            "DielectricMultipleScattering", "DielectricMS", "Sheen", "HazyGloss",
-           "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen"]
+           "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough"]

@@ -13,6 +13,9 @@ Public API
 ``f82_average(f0, tint)``                       hemispherical average of F82-tint (exact)
 ``metal_multiple_scattering(f_avg, E_avg)``      Kulla–Conty's colour of the metal's
                                                 multiple scattering [KullaConty2017]
+``emission_radiance(luminance, color)``         radiometric RGB of emission_luminance (nits)
+                                                and emission_color [§Emission]
+``LUMINOUS_EFFICACY``                           683 lm/W, the photometric conversion
 
 Each function takes validated float64 arrays (the material has checked its parameters
 once); colours are ``(..., 3)``.
@@ -26,7 +29,12 @@ from adobe_bsdf.fresnel import COS_THETA_MAX
 
 __all__ = ["anisotropic_alphas", "tangent_rotation", "effective_ior",
            "specular_ior_modulation", "base_roughening", "f82_average",
-           "metal_multiple_scattering", "reflectance_at_normal"]
+           "metal_multiple_scattering", "reflectance_at_normal", "emission_radiance",
+           "LUMINOUS_EFFICACY"]
+
+#: lm/W: the luminous efficacy that defines the candela (radiation of 540 THz), by which a
+#: luminance in nits becomes a radiance in W m^-2 sr^-1 [BIPM2019, §2.3.1]
+LUMINOUS_EFFICACY = 683.0
 
 
 def anisotropic_alphas(roughness, anisotropy):
@@ -99,3 +107,12 @@ def metal_multiple_scattering(f_avg, E_avg):
     f_avg = np.clip(f_avg, 0.0, 1.0)
     E_avg = np.asarray(E_avg)[..., None]
     return f_avg * f_avg * E_avg / (1.0 - f_avg * (1.0 - E_avg))
+
+
+def emission_radiance(luminance, color):
+    """RGB radiance (W m^-2 sr^-1 per unit of linear Rec. 709) L_e = L_v / K_m · C of
+    emission_luminance L_v (nits) and emission_color C [OpenPBR2026, §Emission]: the colour
+    (1, 1, 1), whose Rec. 709 luminance Y is 1, emits luminance K_m Y L_e = L_v exactly, with
+    K_m = ``LUMINOUS_EFFICACY`` (the library's convention: the specification leaves the
+    conversion to the renderer)."""
+    return color * (luminance / LUMINOUS_EFFICACY)[..., None]

@@ -3,6 +3,7 @@ table and every choice are in ``docs/openpbr.md``).
 
     surface     = layer(coated-base, fuzz, fuzz_weight)
     coated-base = layer(base, coat, coat_weight)
+    PBR         = mix(ambient, surface, geometry_opacity)
     base        = mix(dielectric-base, metal, base_metalness)
     dielectric  = mix(opaque-base, translucent-base, transmission_weight)
     opaque-base = mix(glossy-diffuse, subsurface, subsurface_weight)
@@ -13,6 +14,9 @@ slab is the dielectric's reflection over the energy-preserving Oren–Nayar diff
 reflection ``Tinted`` by specular_color), so a white diffuse keeps all the energy
 E_spec + (1 - E_spec) = 1 and a Lambertian one reflects E_diffuse = (1 - E_spec) C. Lobes of
 zero weight everywhere are never built (``OpenPBRSurface.lobes`` lists the ones that were).
+The ambient medium of the opacity mix is ``lobes.PassThrough``; ``emission(wo)`` is the
+substrate's emission through the coat and the fuzz, ``shadow_transmittance(wo)`` v1.1.1's
+T_pbr for transparent shadows.
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
 from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
+from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.reflection import DielectricReflection
 from adobe_bsdf.materials.material import Material
 from adobe_bsdf.materials.openpbr import draft, mapping
@@ -75,7 +80,7 @@ class OpenPBRSurface(Material):
     specification's 41 inputs (``PARAMETERS``: kind, default, hard and soft range) plus the
     development branch's ``specular_haze`` and ``specular_haze_spread``; each broadcasts, so
     a texture of parameters evaluates in one call. Inputs not yet modelled (``PLANNED``:
-    thin film, media, thin walls, emission, opacity, normal maps) are accepted and stored;
+    thin film, media, thin walls, normal maps) are accepted and stored;
     setting one away from its default warns.
 
     Lobes (``lobes`` names the ones built):
@@ -91,7 +96,8 @@ class OpenPBRSurface(Material):
       coat_weight, coat_color as the two-way transmittance at normal incidence made view
       dependent, the base roughened (``mapping.base_roughening``) and darkened
       (``darkening.Darkening``, ``darkening_variant``);
-    - "fuzz": ``LTCSheen`` of fuzz_roughness, ``Tinted`` by fuzz_color, coverage fuzz_weight.
+    - "fuzz": ``LTCSheen`` of fuzz_roughness, ``Tinted`` by fuzz_color, coverage fuzz_weight;
+    - "pass-through": ``PassThrough`` of weight 1 - geometry_opacity (the ambient medium).
     Anisotropy: ``mapping.anisotropic_alphas``, turned to ``geometry_tangent`` (base) and
     ``geometry_coat_tangent`` (coat).
 
@@ -129,6 +135,7 @@ class OpenPBRSurface(Material):
         coat = _any(C)
         r = mapping.base_roughening(p["specular_roughness"], p["coat_roughness"], C) \
             if coat else p["specular_roughness"]
+        self._roughness = r
         if self._hazy and self.haze_model == "barla2018" and np.any(r == 0.0):
             raise ValueError("specular_roughness = 0 with specular_haze > 0 and haze_model = "
                              "'barla2018': allowed a roughness in (0, 1] (a smooth core has "
@@ -144,12 +151,21 @@ class OpenPBRSurface(Material):
         if metal is not None:
             built["metal"] = metal
         bsdf = _mix(dielectric, metal, M)
+        #: the layers above the substrate, lowest first (its emission passes them)
+        self._layers = []
         if coat:
             bsdf = self._coat(bsdf, eta_s, built)
+            self._layers.append(bsdf)
         F = p["fuzz_weight"]
         if _any(F):
             built["fuzz"] = LTCSheen(1.0, p["fuzz_roughness"])
             bsdf = Layer._new(Tinted._new(built["fuzz"], p["fuzz_color"]), bsdf, F)
+            self._layers.append(bsdf)
+        self._eta_s = eta_s
+        alpha = p["geometry_opacity"]
+        if _any(1.0 - alpha):
+            built["pass-through"] = PassThrough()
+            bsdf = Mix(built["pass-through"], bsdf, _c(alpha))
         super().__init__(bsdf, built)
 
     def __repr__(self) -> str:
@@ -167,6 +183,52 @@ class OpenPBRSurface(Material):
         material = cls(darkening_variant=darkening_variant, **params)
         material.draft_differences = tuple(differences)
         return material
+
+    # -- emission and transparent shadows ------------------------------------------------
+    def emission(self, wo) -> np.ndarray:
+        """Emitted radiance towards ``wo``, RGB ``(..., 3)`` in W m^-2 sr^-1
+        [OpenPBR2026, §Emission]: ``mapping.emission_radiance`` of emission_luminance and
+        emission_color, uniform over the upper hemisphere (0 below), leaving the substrate
+        through the coat and then the fuzz with the weight each layer gives the light under
+        it along ``wo`` (``Layer.exit_weight``: lerp(1, t(wo) (1 - E_top(wo)), w), t the
+        coat's one-way view-dependent transmittance sqrt(coat_color)^(1/mu_o^t)), times the
+        presence geometry_opacity."""
+        wo = _params.direction("wo", wo)
+        p = self.params
+        Le = mapping.emission_radiance(p["emission_luminance"], p["emission_color"])
+        Le = np.where((wo[..., 2] > 0.0)[..., None], Le * _c(p["geometry_opacity"]), 0.0)
+        for layer in self._layers:
+            Le = Le * layer.exit_weight(wo)
+        return Le
+
+    def shadow_transmittance(self, wo) -> np.ndarray:
+        """Transparent-shadow transmittance along the straight line through ``wo``, RGB
+        ``(..., 3)`` [OpenPBR2026, §Opacity / Transparency]:
+
+            T_pbr = 1 - alpha (1 - (1 - M) T_dielectric),
+
+        alpha = geometry_opacity, M = base_metalness (the metal is opaque). T_dielectric is
+        transmission_weight times the translucent base's straight transmittance
+        (1 - E_R(mu)) transmission_color, E_R the energy its rough interface reflects at
+        mu = |cos theta_o| (the line crosses it from outside whichever way it runs; the
+        glossy-diffuse and subsurface bases are opaque), times the share that crosses the
+        coat and the fuzz (``Layer.exit_weight``), as the draft's
+        w_dielectric T_dielectric [Andersson2023, §Opacity / Transparency] with v1.1.1's
+        Fresnel factor made explicit."""
+        wo = _params.direction("wo", wo)
+        up = wo * np.where(wo[..., 2:3] < 0.0, -1.0, 1.0)  # the line's side from outside
+        p = self.params
+        T = p["transmission_weight"] * (1.0 - p["base_metalness"])
+        T_d = np.zeros(up.shape[:-1] + (3,))
+        if self._eta_s is not None and _any(T):
+            eta = mapping.specular_ior_modulation(self._eta_s, p["specular_weight"])
+            interface = DielectricReflection._new(GGX._new(*self._alphas(self._roughness)),
+                                                  _fresnel(eta))
+            E_R = interface._albedo_table(up, with_error=False)[0]
+            T_d = _c(T) * p["transmission_color"] * (1.0 - E_R)
+            for layer in self._layers:
+                T_d = T_d * layer.exit_weight(up)
+        return 1.0 - _c(p["geometry_opacity"]) * (1.0 - T_d)
 
     # -- the slabs --------------------------------------------------------------------------
     def _alphas(self, r):

@@ -177,12 +177,15 @@ STATUS = {
     "fuzz_weight": (_DONE, "F of F f_fuzz + (1 − F E_fuzz) f_below"),
     "fuzz_color": (_DONE, "`Tinted` LTC sheen: E_fuzz white for the layer below"),
     "fuzz_roughness": (_DONE, "α of `lobes.LTCSheen`"),
-    "emission_luminance": (_PLANNED, "emission under the coat"),
-    "emission_color": (_PLANNED, "emission under the coat"),
+    "emission_luminance": (_CHOICE, "`emission(wo)`: L_v / 683 lm/W (Rec. 709 white has "
+                                    "Y = 1), uniform, through the coat and fuzz "
+                                    "(`Layer.exit_weight`)"),
+    "emission_color": (_DONE, "multiplier of the radiance (may exceed 1)"),
     "thin_film_weight": (_PLANNED, "thin-film interference"),
     "thin_film_thickness": (_PLANNED, "thin-film interference"),
     "thin_film_ior": (_PLANNED, "thin-film interference"),
-    "geometry_opacity": (_PLANNED, "mix with the ambient medium"),
+    "geometry_opacity": (_DONE, "`composition.Mix` with `lobes.PassThrough`; "
+                                "`shadow_transmittance(wo)`"),
     "geometry_thin_walled": (_PLANNED, "thin-walled mode"),
     "geometry_normal": (_PLANNED, "normal maps"),
     "geometry_tangent": (_DONE, "`composition.Rotated` by its azimuth in the local frame"),
