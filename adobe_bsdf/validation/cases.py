@@ -34,6 +34,7 @@ from adobe_bsdf.lobes import (
 from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
+from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.materials.asm import (
     AdobeStandardMaterial,
     ASMDiffuse,
@@ -287,6 +288,12 @@ _CASES = (
                                      specular_roughness_anisotropy=0.8,
                                      geometry_tangent=(0.6, 0.8, 0.0)),
               expected_albedo=_one, furnace_tol=FURNACE_TOL_ANISOTROPIC, tags=_TABLES),
+    CheckCase("PassThrough", PassThrough, cos_theta_o=(0.8, -0.3), expected_albedo=_one),
+    CheckCase("OpenPBR white diffuse, opacity 0.4",
+              lambda: OpenPBRSurface(base_color=1.0, specular_roughness=0.5,
+                                     geometry_opacity=0.4),
+              cos_theta_o=(1.0, 0.5, 0.1), expected_albedo=_one,
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES, reciprocal=False),
 )
 
 
