@@ -32,12 +32,11 @@ from adobe_bsdf import _params, config
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
 from adobe_bsdf.frame import _coordinate_system
 from adobe_bsdf.lobes.dielectric import interface_energy_scale
+from adobe_bsdf.sampling import henyey_greenstein_cos
 
 __all__ = ["LayeredReference", "henyey_greenstein", "sample_henyey_greenstein"]
 
 _DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
-#: below this |g| the phase function is sampled as isotropic (the inversion's 1/g)
-_G_ISOTROPIC = 1e-3
 #: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
 _UNIFORM_SHARE = 0.1
 
@@ -53,13 +52,7 @@ def henyey_greenstein(wo, wi, g) -> np.ndarray:
 def sample_henyey_greenstein(wo, u2, g):
     """``(wi, pdf)``: wi drawn from ``henyey_greenstein(wo, ., g)`` by inverting its cumulative
     distribution in the cosine about the travel direction -wo [Pharr2023, §11.3.1]."""
-    u, v = u2[..., 0], u2[..., 1]
-    if abs(g) < _G_ISOTROPIC:
-        cos = 1.0 - 2.0 * u
-    else:
-        s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u)
-        cos = (1.0 + g * g - s * s) / (2.0 * g)
-    cos = np.clip(cos, -1.0, 1.0)
+    cos, v = henyey_greenstein_cos(u2[..., 0], g), u2[..., 1]
     sin = np.sqrt(1.0 - cos * cos)
     d = -np.asarray(wo)
     t, b = _coordinate_system(d)

@@ -6,7 +6,11 @@ Public API
 ``single_scattering_albedo(multiple_albedo, g=0)``  Kulla & Conty's inversion
 ``asm_medium(scattering_distance, scattering_color, ...) -> Medium``
                                                     the ASM mapping
-``half_space_albedo(albedo, n_paths, seed) -> HalfSpaceAlbedo``
+``openpbr_subsurface_medium(radius, radius_scale, color, g) -> Medium``
+                                                    OpenPBR v1.1.1's subsurface mapping
+``openpbr_transmission_medium(color, depth, scatter, g) -> Medium | None``
+                                                    OpenPBR v1.1.1's translucent medium
+``half_space_albedo(albedo, n_paths, seed, g=0) -> HalfSpaceAlbedo``
                                                     the albedo a medium really reflects, by a
                                                     random walk (beyond the paper)
 
@@ -46,14 +50,19 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf.sampling import henyey_greenstein_cos
 
-__all__ = ["Medium", "single_scattering_albedo", "asm_medium", "HalfSpaceAlbedo",
-           "half_space_albedo", "DISTANCE_MIN", "MAX_MULTIPLIER", "RAYLEIGH_NM"]
+__all__ = ["Medium", "single_scattering_albedo", "asm_medium", "openpbr_subsurface_medium",
+           "openpbr_transmission_medium", "HalfSpaceAlbedo", "half_space_albedo",
+           "DISTANCE_MIN", "MAX_MULTIPLIER", "RAYLEIGH_NM", "TRANSMITTANCE_MIN"]
 
 #: smallest scattering distance (scene units): 0 is raised to it
 DISTANCE_MIN = 1e-9
 #: largest ratio of the extinctions of two channels [Kutz2021, §5 listing]
 MAX_MULTIPLIER = 1e3
+#: smallest transmittance of OpenPBR's transmission_color (0 is raised to it: the extinction
+#: -ln(T) / d stays finite, about 27.6 / d)
+TRANSMITTANCE_MIN = 1e-12
 #: wavelengths (nm) of the Rayleigh control, red, green, blue [Kutz2021, §5 listing]
 RAYLEIGH_NM = (640.0, 540.0, 460.0)
 
@@ -130,6 +139,60 @@ def asm_medium(scattering_distance, scattering_color, scattering_distance_scale=
     return Medium(sigma_t - sigma_s, sigma_s, np.asarray(g))
 
 
+def openpbr_subsurface_medium(radius, radius_scale, color, g=0.0) -> Medium:
+    """OpenPBR v1.1.1's subsurface medium [OpenPBR2026, §Subsurface]: r = radius
+    radius_scale is the mean free path, sigma_t = 1 / r (r raised to ``DISTANCE_MIN``, so
+    r = 0 is a very dense medium, not an infinite one); the single-scattering albedo is the
+    van de Hulst inversion of the colour C with the asymmetry g (``single_scattering_albedo``,
+    the example the specification gives: s = 4.09712 + 4.20863 C - sqrt(9.59217 + 41.6808 C
+    + 17.7126 C^2), alpha = (1 - s^2) / (1 - g s^2)), so that the medium's multiple-scattering
+    albedo is about C; sigma_t does not depend on g. The phase function is Henyey–Greenstein
+    of asymmetry g.
+
+    Parameters
+    ----------
+    radius : array_like in [0, inf)           subsurface_radius (scene units).
+    radius_scale : colour in [0, 1]           subsurface_radius_scale.
+    color : colour in [0, 1]                  subsurface_color.
+    g : array_like in (-1, 1)                 subsurface_scatter_anisotropy (the open ends,
+                                              a delta phase function, are excluded).
+    """
+    r = _params.real("radius", radius, 0.0, np.inf)
+    scale = _params.color("radius_scale", radius_scale, 0.0, 1.0)
+    color = _params.color("color", color, 0.0, 1.0)
+    g = _params.real("g", g, -1.0, 1.0, lo_open=True, hi_open=True)
+    sigma_t = 1.0 / np.maximum(r[..., None] * scale, DISTANCE_MIN)
+    sigma_s = single_scattering_albedo(color, g[..., None]) * sigma_t
+    return Medium(sigma_t - sigma_s, sigma_s, g)
+
+
+def openpbr_transmission_medium(color, depth, scatter=0.0, g=0.0) -> Medium | None:
+    """OpenPBR v1.1.1's translucent-base medium [OpenPBR2026, §Translucent base]: with T =
+    color (raised to ``TRANSMITTANCE_MIN``), d = depth and S = scatter,
+
+        sigma_t = -ln(T) / d,  sigma_s = S / d,  sigma_a = sigma_t - sigma_s,
+
+    and where min(sigma_a) < 0 that minimum is subtracted from every channel's sigma_a (the
+    specification's shift, which keeps the hue of the scattering). So light that travels d
+    through the medium without scattering keeps exp(-sigma_t d) = T (Beer's law) when
+    S <= -ln T in every channel. ``None`` at d = 0, where the specification has no medium and
+    the colour is a tint on the refraction (the material applies it)."""
+    T = _params.color("color", color, 0.0, 1.0)
+    d = _params.real("depth", depth, 0.0, np.inf)
+    S = _params.color("scatter", scatter, 0.0, 1.0)
+    g = _params.real("g", g, -1.0, 1.0, lo_open=True, hi_open=True)
+    if np.all(d == 0.0):
+        return None
+    if np.any(d == 0.0):
+        raise ValueError(f"depth = {d[d == 0.0].flat[0]!r} beside positive depths: a texture of "
+                         "depths has a medium everywhere or nowhere (allowed: all > 0 or all 0)")
+    sigma_t = -np.log(np.maximum(T, TRANSMITTANCE_MIN)) / d[..., None]
+    sigma_s = S / d[..., None]
+    sigma_a = sigma_t - sigma_s
+    shift = np.minimum(sigma_a.min(axis=-1, keepdims=True), 0.0)
+    return Medium(sigma_a - shift, sigma_s, g)
+
+
 class HalfSpaceAlbedo(NamedTuple):
     """Result of ``half_space_albedo`` (all ``(..., 3)`` like the input albedo).
 
@@ -147,15 +210,19 @@ class HalfSpaceAlbedo(NamedTuple):
 
 
 def half_space_albedo(albedo, n_paths: int = 100_000, seed=0, max_bounces: int = 20_000,
-                      weight_min: float = 1e-6, incidence: str = "diffuse") -> HalfSpaceAlbedo:
+                      weight_min: float = 1e-6, incidence: str = "diffuse",
+                      g=0.0) -> HalfSpaceAlbedo:
     """Diffuse reflectance of a homogeneous half-space of single-scattering ``albedo`` by a
-    random walk: index-matched boundary (no Fresnel), isotropic phase function, absorption as
-    a weight alpha^bounces. ``incidence``: "diffuse" (uniform radiance over the hemisphere:
-    cosine-distributed entry directions, the albedo Kulla & Conty's inversion is fitted to, as
-    measured in docs/asm_measured.md) or "normal" (a beam along the normal).
+    random walk: index-matched boundary (no Fresnel), Henyey–Greenstein phase function of
+    asymmetry ``g`` in (-1, 1) (0: isotropic; the scattering turns the direction about a
+    uniform azimuth, [Henyey1941]), absorption as a weight alpha^bounces. ``incidence``:
+    "diffuse" (uniform radiance over the hemisphere: cosine-distributed entry directions, the
+    albedo Kulla & Conty's inversion is fitted to, as measured in docs/asm_measured.md) or
+    "normal" (a beam along the normal).
 
     The half-space has no length scale, so the result depends on the albedo alone (not on
-    sigma_t): this measures what ``asm_medium`` makes of a Scattering Color. Vectorised over
+    sigma_t): this measures what ``asm_medium`` makes of a Scattering Color (and
+    ``openpbr_subsurface_medium`` of a subsurface_color, docs/media.md). Vectorised over
     paths; the loop runs over bounces, and paths leave the arrays when they escape or their
     weight falls below ``weight_min`` (their remaining weight is counted in ``truncated``).
     """
@@ -163,6 +230,7 @@ def half_space_albedo(albedo, n_paths: int = 100_000, seed=0, max_bounces: int =
     n_paths = _params.integer("n_paths", n_paths, 2)
     max_bounces = _params.integer("max_bounces", max_bounces, 1)
     _params.choice("incidence", incidence, ("normal", "diffuse"))
+    g = float(_params.scalar("g", g, -1.0, 1.0, lo_open=True, hi_open=True))
     rng = np.random.default_rng(seed)
     flat = alpha.reshape(-1)
     total = np.zeros((flat.size, n_paths))  # escaped energy of every path
@@ -184,7 +252,13 @@ def half_space_albedo(albedo, n_paths: int = 100_000, seed=0, max_bounces: int =
         channel, path, z, weight = channel[keep], path[keep], z[keep], weight[keep]
         if not channel.size:
             break
-        mu = 2.0 * rng.random(channel.size) - 1.0  # isotropic
+        if g == 0.0:
+            mu = 2.0 * rng.random(channel.size) - 1.0  # isotropic
+        else:  # turn the direction by the scattering angle, about a uniform azimuth
+            cos = henyey_greenstein_cos(rng.random(channel.size), g)
+            sin = np.sqrt((1.0 - cos) * (1.0 + cos))
+            mu = (mu[keep] * cos + np.sqrt(np.maximum(1.0 - mu[keep] ** 2, 0.0)) * sin
+                  * np.cos(2.0 * np.pi * rng.random(channel.size)))
     np.add.at(cut, channel, weight)
     shape = alpha.shape
     value = total.mean(axis=1)

@@ -259,3 +259,13 @@ def test_openpbr_report_writes_its_page(tmp_path):
     assert "| material | lobes | eval (s) | passes |" in text
     for name in openpbr_report.PEER:
         assert f"| {name} | 0.9 |" in text
+
+
+def test_media_report_writes_its_page(tmp_path):
+    from benchmarks import media_report
+
+    text = media_report.run(tmp_path, smoke=True).read_text(encoding="utf-8")
+    for section in ("Subsurface: the colour a mapped medium really has", "Translucent medium",
+                    "The ASM's and OpenPBR's media for the same inputs"):
+        assert f"## {section}" in text
+    assert "| 0.5 | 0.5 | normal |" in text

@@ -25,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from adobe_bsdf import _params
+from adobe_bsdf import _params, media
 from adobe_bsdf.composition import Layer, Mix, Rotated, Sum, Tinted
 from adobe_bsdf.darkening import VARIANTS, Darkening
 from adobe_bsdf.fresnel import ExactDielectric, F82Tint
@@ -125,7 +125,9 @@ class OpenPBRSurface(Material):
                                                 VARIANTS)
         self.haze_model = _params.choice("haze_model", haze_model, HAZE_MODELS)
         self._hazy = _any(p["specular_haze"])
-        self.planned = tuple(name for name in PLANNED if _acts(p, name))
+        self.planned = tuple(name for name in PLANNED if _acts(p, name)
+                             and not (name == "transmission_color"
+                                      and np.all(p["transmission_depth"] > 0.0)))
         if self.planned:
             warnings.warn(f"OpenPBRSurface: {', '.join(self.planned)} not modelled yet: the "
                           "values are stored and have no effect (docs/openpbr.md)",
@@ -183,6 +185,41 @@ class OpenPBRSurface(Material):
         material = cls(darkening_variant=darkening_variant, **params)
         material.draft_differences = tuple(differences)
         return material
+
+    # -- the interior ----------------------------------------------------------------------
+    def media(self) -> dict:
+        """The interior media with their presence weights, ``{name: (weight, Medium)}``:
+        "transmission", of weight (1 - M) T, the translucent base's medium
+        (``media.openpbr_transmission_medium`` of transmission_color, _depth, _scatter and
+        _scatter_anisotropy; absent at depth 0, where the colour tints the refraction), and
+        "subsurface", of weight (1 - M)(1 - T) S, ``media.openpbr_subsurface_medium`` of
+        subsurface_radius x subsurface_radius_scale, subsurface_color and
+        subsurface_scatter_anisotropy [OpenPBR2026, §Subsurface, §Translucent base]. Only
+        media of non-zero weight somewhere are listed; the weights are ``(...)`` arrays."""
+        p = self.params
+        dielectric = 1.0 - p["base_metalness"]
+        T, S = p["transmission_weight"], p["subsurface_weight"]
+        out = {}
+        if _any(dielectric * T):
+            m = media.openpbr_transmission_medium(p["transmission_color"],
+                                                  p["transmission_depth"],
+                                                  p["transmission_scatter"],
+                                                  p["transmission_scatter_anisotropy"])
+            if m is not None:
+                out["transmission"] = (dielectric * T, m)
+        if _any(dielectric * (1.0 - T) * S):
+            out["subsurface"] = (dielectric * (1.0 - T) * S, media.openpbr_subsurface_medium(
+                p["subsurface_radius"], p["subsurface_radius_scale"], p["subsurface_color"],
+                p["subsurface_scatter_anisotropy"]))
+        return out
+
+    def medium(self):
+        """The interior ``media.Medium`` of largest presence weight (``media``; the
+        translucent one where the two weigh the same), or None for an opaque material."""
+        found = self.media()
+        if not found:
+            return None
+        return max(found.values(), key=lambda wm: float(np.max(wm[0])))[1]
 
     # -- emission and transparent shadows ------------------------------------------------
     def emission(self, wo) -> np.ndarray:

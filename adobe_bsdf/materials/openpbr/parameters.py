@@ -153,19 +153,24 @@ STATUS = {
                               "limit the relative index to [1/3, 3]"),
     "transmission_weight": (_DONE, "`composition.Mix` of opaque and translucent bases; "
                                    "`lobes.DielectricMS`"),
-    "transmission_color": (_PLANNED, "tint of the refraction"),
-    "transmission_depth": (_PLANNED, "the translucent medium"),
-    "transmission_scatter": (_PLANNED, "the translucent medium"),
-    "transmission_scatter_anisotropy": (_PLANNED, "the translucent medium"),
+    "transmission_color": (_PLANNED, "depth > 0: the medium's Beer's law (`medium()`); "
+                                     "depth 0, the tint of the refraction: planned"),
+    "transmission_depth": (_DONE, "`media.openpbr_transmission_medium` (`medium()`)"),
+    "transmission_scatter": (_CHOICE, "σ_s = S/d; the negative-absorption shift of v1.1.1 "
+                                      "(not dev_1.2's single-scattering albedo)"),
+    "transmission_scatter_anisotropy": (_DONE, "HG g of the translucent medium"),
     "transmission_dispersion_scale": (_PLANNED, "dispersion (Cauchy)"),
     "transmission_dispersion_abbe_number": (_PLANNED, "dispersion (Cauchy)"),
     "subsurface_weight": (_CHOICE, "the dense limit: glossy-diffuse of ρ = subsurface_color "
-                                   "under the same interface (its medium is planned)"),
+                                   "under the same interface; its medium is `medium()`"),
     "subsurface_color": (_CHOICE, "ρ of that limit: E = (1 − E_spec) C at normal incidence, "
                                   "as v1.1.1 defines the colour"),
-    "subsurface_radius": (_PLANNED, "the subsurface medium"),
-    "subsurface_radius_scale": (_PLANNED, "the subsurface medium"),
-    "subsurface_scatter_anisotropy": (_PLANNED, "the subsurface medium"),
+    "subsurface_radius": (_CHOICE, "`media.openpbr_subsurface_medium`: mean free path "
+                                   "r = radius × scale, σ_t = 1/r (`medium()`; the BSDF is "
+                                   "the slab's dense limit)"),
+    "subsurface_radius_scale": (_DONE, "per-channel factor of the mean free path"),
+    "subsurface_scatter_anisotropy": (_CHOICE, "HG g; the albedo inversion with g "
+                                               "(van de Hulst), error in docs/media.md"),
     "coat_weight": (_DONE, "coverage of `composition.Layer`; η_s blend; base roughening"),
     "coat_color": (_DONE, "Layer scaling 'transmittance': T^((1/μ_o^t + 1/μ_i^t)/2)"),
     "coat_roughness": (_DONE, "`anisotropic_alphas` of the coat"),
