@@ -14,6 +14,9 @@ Public API
                                    C of the reciprocal scaling.
 ``coat_absorption(color, eta, w)`` one-way transmittance of an absorbing coat along ``w``.
 ``Rotated(lobe, phi)``             ``lobe`` turned about the normal.
+``Flipped(lobe)``                  ``lobe`` with its scattered side mirrored through the plane
+                                   (reflection <-> transmission of a thin sheet).
+``Facing(lobe)``                   ``lobe`` always seen from its top side (thin walls).
 ``Wrapper``                        base of a lobe built around one inner lobe: forwards every
                                    hook of ``bsdf.HOOKS`` to it (``Rotated``, materials).
 ``choose(P, u)``                   pick a component by the first uniform, re-used inside it.
@@ -80,7 +83,7 @@ from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sampl
 from adobe_bsdf.microfacet import saturated
 
 __all__ = ["Sum", "Mix", "Tinted", "Layer", "SCALINGS", "reciprocal_normalisation",
-           "coat_absorption", "Rotated", "Wrapper", "choose", "sample_where"]
+           "coat_absorption", "Rotated", "Flipped", "Facing", "Wrapper", "choose", "sample_where"]
 
 #: full coverage, the default of ``Layer``
 _FULL = np.asarray(1.0)
@@ -88,9 +91,10 @@ _FULL = np.asarray(1.0)
 
 class Wrapper(Lobe):
     """A lobe built around another, ``_inner()``, whose interface it shares; every hook of
-    ``bsdf.HOOKS`` is forwarded to the inner lobe, directions through ``_to_inner`` and
-    samples back through ``_from_inner`` (both the identity here; ``Rotated`` turns them).
-    A subclass overrides only the hooks that differ."""
+    ``bsdf.HOOKS`` is forwarded to the inner lobe, its directions through ``_directions`` and
+    samples back through ``_from_inner`` (the identity here; ``Rotated`` turns them,
+    ``Flipped`` and ``Facing`` mirror them). A subclass overrides only the hooks that
+    differ."""
 
     def _inner(self) -> Lobe:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -99,8 +103,14 @@ class Wrapper(Lobe):
         """A direction of this lobe's frame in the inner lobe's frame."""
         return w
 
-    def _from_inner(self, sample: BSDFSample) -> BSDFSample:
-        """A sample of the inner lobe in this lobe's frame."""
+    def _directions(self, wo, wi):
+        """``(wo, wi)`` of a hook in the inner lobe's frame (``wi`` None for the hooks of
+        ``wo`` alone): each through ``_to_inner`` by default."""
+        return self._to_inner(wo), None if wi is None else self._to_inner(wi)
+
+    def _from_inner(self, sample: BSDFSample, wo) -> BSDFSample:
+        """A sample of the inner lobe (drawn at ``wo``, this lobe's frame) in this lobe's
+        frame."""
         return sample
 
     @property
@@ -116,13 +126,18 @@ class Wrapper(Lobe):
 
 def _forwarding(hook: Hook):
     """The ``Wrapper`` method that forwards ``hook`` to the inner lobe."""
-    turned = tuple(i for i, arg in enumerate(hook.args) if arg in ("wo", "wi"))
+    o = hook.args.index("wo") if "wo" in hook.args else None
+    i = hook.args.index("wi") if "wi" in hook.args else None
 
     def forward(self, *args, **kwargs):
-        if turned:
-            args = tuple(self._to_inner(a) if i in turned else a for i, a in enumerate(args))
+        if o is not None:
+            args = list(args)
+            wo = args[o]
+            args[o], wi = self._directions(wo, None if i is None else args[i])
+            if i is not None:
+                args[i] = wi
         result = getattr(self._inner(), hook.name)(*args, **kwargs)
-        return self._from_inner(result) if hook.returns == "sample" else result
+        return self._from_inner(result, wo) if hook.returns == "sample" else result
 
     forward.__name__ = forward.__qualname__ = hook.name
     forward.__doc__ = f"Forwarded to the inner lobe: {hook.contract}."
@@ -816,8 +831,112 @@ class Rotated(Wrapper):
     def _to_inner(self, w):
         return self._turn(w, -1.0)
 
-    def _from_inner(self, sample):
+    def _from_inner(self, sample, wo):
         return BSDFSample(self._turn(sample.wi, 1.0), sample.weight, sample.pdf, sample.flags)
+
+
+def _mirrored(w, where=True):
+    """``w`` mirrored through the surface plane (z -> -z) where ``where``."""
+    z = w[..., 2]
+    return np.stack(np.broadcast_arrays(w[..., 0], w[..., 1], np.where(where, -z, z)), axis=-1)
+
+
+_R, _TR = int(Flags.REFLECTION), int(Flags.TRANSMISSION)
+
+
+class Flipped(Wrapper):
+    """``lobe`` with its scattered side mirrored through the surface plane,
+    f(wo, wi) = lobe.f(wo, M wi), M = diag(1, 1, -1): a reflection lobe becomes a transmission
+    lobe into the other hemisphere (and the reverse), as in a thin sheet whose two faces are
+    one surface [OpenPBR2026, §Thin-walled mode] (the unit-albedo diffuse f_- of the
+    thin-walled subsurface, the straight-through transmission of a thin dielectric).
+
+    M keeps |cos theta_i| and solid angles, so pdfs, sample weights and the albedo carry over
+    (no index changes across the sheet: no radiance scaling); sampled directions are mirrored
+    and their REFLECTION and TRANSMISSION flags swapped. Reciprocity: f(wi, wo) = f(wo, wi)
+    where the lobe is reciprocal and symmetric under M applied to both directions; for a lobe
+    of one side only, evaluate it under ``Facing``, which makes wo face it.
+
+    Parameters
+    ----------
+    lobe : Lobe
+    """
+
+    def __init__(self, lobe: Lobe):
+        if not isinstance(lobe, Lobe):
+            raise ValueError(f"lobe = {lobe!r}: allowed a Lobe")
+        self._init(lobe)
+
+    def _init(self, lobe):
+        self.lobe = lobe
+        self.flags = Flags(_swap_sides(int(lobe.flags)))
+
+    def __repr__(self) -> str:
+        return f"Flipped({self.lobe!r})"
+
+    def _inner(self):
+        return self.lobe
+
+    def _param_shape(self):
+        return self.lobe._param_shape()
+
+    def _directions(self, wo, wi):
+        return wo, None if wi is None else _mirrored(wi)
+
+    def _from_inner(self, sample, wo):
+        return BSDFSample(_mirrored(sample.wi), sample.weight, sample.pdf,
+                          _swap_sides(sample.flags))
+
+
+def _swap_sides(flags):
+    """``flags`` with REFLECTION and TRANSMISSION exchanged."""
+    both = _R | _TR
+    swapped = ((flags & _R) != 0) * _TR | ((flags & _TR) != 0) * _R
+    return (flags & ~both) | swapped
+
+
+class Facing(Wrapper):
+    """``lobe`` always seen from its top side: where wo is below the surface both directions
+    are mirrored through the plane, f(wo, wi) = lobe.f(M wo, M wi), and samples mirrored back
+    (the "always facing" sheet of [Andersson2023, §Thin-walled case] that OpenPBR v1.1.1
+    recommends for thin walls: the ray enters from the top whichever side it hits).
+
+    M keeps cosines' magnitudes and solid angles: pdfs, weights and albedos are the lobe's at
+    M wo, the flags unchanged. Where the lobe is reciprocal, so is the facing sheet for pairs
+    on one side; across the sheet f(wo, wi) = f(M wi, M wo) relates the two sides, which is
+    reciprocity where the lobe is symmetric under M (``Flipped`` lobes of reciprocal
+    ones).
+
+    Parameters
+    ----------
+    lobe : Lobe
+    """
+
+    def __init__(self, lobe: Lobe):
+        if not isinstance(lobe, Lobe):
+            raise ValueError(f"lobe = {lobe!r}: allowed a Lobe")
+        self._init(lobe)
+
+    def _init(self, lobe):
+        self.lobe = lobe
+        self.flags = lobe.flags
+
+    def __repr__(self) -> str:
+        return f"Facing({self.lobe!r})"
+
+    def _inner(self):
+        return self.lobe
+
+    def _param_shape(self):
+        return self.lobe._param_shape()
+
+    def _directions(self, wo, wi):
+        below = wo[..., 2] < 0.0
+        return _mirrored(wo, below), None if wi is None else _mirrored(wi, below)
+
+    def _from_inner(self, sample, wo):
+        below = np.broadcast_to(wo[..., 2] < 0.0, sample.pdf.shape)
+        return BSDFSample(_mirrored(sample.wi, below), sample.weight, sample.pdf, sample.flags)
 
 
 def choose(P, u):

@@ -407,6 +407,15 @@ class ThinFilm(Fresnel):
 
     def from_cos2(self, c2) -> np.ndarray:
         c2 = np.asarray(c2, dtype=np.float64)
+        if self.param_shape == () and c2.size > 1:
+            # each distinct angle once: a Monte-Carlo batch repeats its wo
+            distinct, inverse = np.unique(c2.ravel(), return_inverse=True)
+            if distinct.size < c2.size:
+                return self._spectral(distinct)[inverse.ravel()].reshape(c2.shape + (3,))
+        return self._spectral(c2)
+
+    def _spectral(self, c2) -> np.ndarray:
+        """``from_cos2`` computed element by element."""
         batch = np.broadcast_shapes(c2.shape, self.param_shape)
         n = int(np.prod(batch))
 

@@ -155,13 +155,14 @@ def test_emission_color_may_exceed_one(tmp_path):
 
 
 def test_warning_of_an_input_not_modelled_surfaces_and_is_recorded(tmp_path):
-    (tmp_path / "film.mtlx").write_text(_document(
-        '<input name="thin_film_weight" type="float" value="0.5" />'))
-    with pytest.warns(UserWarning, match=r"film\.mtlx: node 'S': .*thin_film_weight"):
-        result = load_mtlx(tmp_path / "film.mtlx")
-    assert result["M"].params["thin_film_weight"] == 0.5
+    (tmp_path / "glass.mtlx").write_text(_document(
+        '<input name="transmission_dispersion_scale" type="float" value="0.5" />'))
+    with pytest.warns(UserWarning,
+                      match=r"glass\.mtlx: node 'S': .*transmission_dispersion_scale"):
+        result = load_mtlx(tmp_path / "glass.mtlx")
+    assert result["M"].params["transmission_dispersion_scale"] == 0.5
     (message,) = result.records["M"].warnings
-    assert "thin_film_weight" in message and "not modelled" in message
+    assert "transmission_dispersion_scale" in message and "not modelled" in message
 
 
 def test_connected_inputs_warn_with_the_value_used():

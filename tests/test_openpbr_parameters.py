@@ -126,9 +126,11 @@ def test_planned_inputs_are_stored_and_warn_only_where_they_act():
         warnings.simplefilter("error")
         OpenPBRSurface(subsurface_radius=0.2)  # subsurface_weight 0: no effect, no warning
         OpenPBRSurface()
-    with pytest.warns(UserWarning, match="thin_film_thickness"):
-        m = OpenPBRSurface(thin_film_weight=1.0, thin_film_thickness=0.3)
-    assert "thin_film_thickness" in m.planned and m.params["thin_film_thickness"] == 0.3
+    with pytest.warns(UserWarning, match="transmission_dispersion_abbe_number"):
+        m = OpenPBRSurface(transmission_dispersion_scale=0.5,
+                           transmission_dispersion_abbe_number=40.0)
+    assert "transmission_dispersion_abbe_number" in m.planned
+    assert m.params["transmission_dispersion_abbe_number"] == 40.0
 
 
 # -- v1.1.1's mappings ------------------------------------------------------------------------

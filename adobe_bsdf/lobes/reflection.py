@@ -18,7 +18,7 @@ from adobe_bsdf.lobes.energy_lookup import (
 )
 from adobe_bsdf.microfacet import distribution, saturated
 
-__all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection"]
+__all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection", "ReferencedReflection"]
 
 
 class MicrofacetReflection(SupportLobe):
@@ -214,6 +214,57 @@ class Conductor(MicrofacetReflection):
     """A conductor's microfacet reflection: ``MicrofacetReflection`` with any Fresnel model
     (typically ``fresnel.ExactConductor`` or ``fresnel.F82Tint``; None is F = 1, a white
     metal), as pbrt-v4's ``ConductorBxDF`` and Mitsuba 3's ``roughconductor``."""
+
+
+class ReferencedReflection(MicrofacetReflection):
+    """``MicrofacetReflection`` with a Fresnel model that has no table (a thin film), next to
+    a ``reference`` reflection of the same microfacets that has one (the film-free
+    interface). Its table albedo, and its albedo as a layer's top, are the reference's plus
+    the difference of the two lobes' ``quadrature.sampled_albedo`` on the same 32 x 32
+    visible-normal nodes (a control variate, as ``Conductor``'s with F = 1):
+
+        E(wo) = E_reference(wo) + Q_F(wo) - Q_reference(wo)  (at least 0),
+
+    so where the two Fresnel models agree (a film of vanishing thickness) the albedo is the
+    reference's to rounding, and a layer over it sees the same E_top. Error: the change of
+    Q_F - Q_reference at order 16.
+
+    Parameters
+    ----------
+    reference : MicrofacetReflection
+        The reflection whose tables serve (its distribution is this lobe's).
+    fresnel : fresnel.Fresnel
+    """
+
+    def __init__(self, reference: MicrofacetReflection, fresnel):
+        if not isinstance(reference, MicrofacetReflection):
+            raise ValueError(f"reference = {reference!r}: allowed a MicrofacetReflection")
+        self._init(reference, _fresnel_model(fresnel))
+
+    def _init(self, reference, fresnel):
+        super()._init(reference.distribution, fresnel)
+        self.reference = reference
+
+    def __repr__(self) -> str:
+        return f"ReferencedReflection({self.reference!r}, fresnel={self.fresnel!r})"
+
+    def _difference(self, wo, order):
+        return (quadrature.sampled_albedo(self, wo, order)
+                - quadrature.sampled_albedo(self.reference, wo, order))
+
+    def _albedo_table(self, wo, with_error=True):
+        if self.distribution.smooth.all():
+            return self._delta_albedo(wo), np.zeros(wo.shape[:-1] + (3,))
+        E, error = self.reference._albedo_table(wo, with_error)
+        value = self._difference(wo, 32)
+        if with_error:
+            error = error + np.abs(value - self._difference(wo, 16))
+        return np.maximum(E + value, 0.0), error
+
+    def _top_albedo(self, wo):
+        if self.distribution.smooth.all():
+            return self._delta_albedo(wo)
+        return np.maximum(self.reference._top_albedo(wo) + self._difference(wo, 32), 0.0)
 
 
 class DielectricReflection(MicrofacetReflection):

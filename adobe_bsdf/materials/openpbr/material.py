@@ -35,12 +35,13 @@ from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
-from adobe_bsdf.lobes.reflection import DielectricReflection
+from adobe_bsdf.lobes.reflection import DielectricReflection, ReferencedReflection
 from adobe_bsdf.materials.material import Material
 from adobe_bsdf.materials.openpbr import draft, mapping
 from adobe_bsdf.materials.openpbr.parameters import GATES, PARAMETERS, PLANNED
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.tables import ETA_MAX
+from adobe_bsdf.thin_film import ThinFilm
 
 __all__ = ["OpenPBRSurface", "ETA_RANGE", "HAZE_MODELS"]
 
@@ -142,6 +143,7 @@ class OpenPBRSurface(Material):
             raise ValueError("specular_roughness = 0 with specular_haze > 0 and haze_model = "
                              "'barla2018': allowed a roughness in (0, 1] (a smooth core has "
                              "no halo)")
+        self._film = self._thin_film(C if coat else None)
         phi = mapping.tangent_rotation(p["geometry_tangent"])
         metal = self._metal(r, phi) if _any(M) else None
         eta_s = dielectric = None
@@ -268,6 +270,30 @@ class OpenPBRSurface(Material):
         return 1.0 - _c(p["geometry_opacity"]) * (1.0 - T_d)
 
     # -- the slabs --------------------------------------------------------------------------
+    def _thin_film(self, coat_weight):
+        """``(w, d, n)`` of the thin film [OpenPBR2026, §Thin-film iridescence], or None where
+        thin_film_weight w or the thickness is 0 everywhere (the film-free material exactly):
+        d = 1000 thin_film_thickness (nm), n = thin_film_ior / n_above its index relative to
+        the medium above it, n_above =
+        lerp(1, coat_ior, coat_weight) (the blend the base's own index takes under a partial
+        coat, ``mapping.effective_ior``). Not with the hazy gloss of [Barla2018] (its
+        Fresnel is its own), nor on the translucent base (``DielectricMS`` takes an index,
+        not a Fresnel model): that warns."""
+        p = self.params
+        w = p["thin_film_weight"]
+        if not _any(w * p["thin_film_thickness"]):  # no film, or one of thickness 0
+            return None
+        if self._hazy and self.haze_model == "barla2018":
+            raise ValueError("thin_film_weight > 0 with haze_model = 'barla2018': allowed "
+                             "thin_film_weight = 0 (the hazy gloss has a Fresnel of its own)")
+        if _any(w * p["transmission_weight"] * (1.0 - p["base_metalness"])):
+            warnings.warn("OpenPBRSurface: the thin film is not applied to the translucent "
+                          "base (transmission_weight > 0): its refraction has no Fresnel "
+                          "model to carry it (docs/openpbr.md)", stacklevel=3)
+        n_above = 1.0 if coat_weight is None else 1.0 + coat_weight * (p["coat_ior"] - 1.0)
+        return w, 1000.0 * p["thin_film_thickness"], p["thin_film_ior"] / n_above
+
+    # -- the slabs --------------------------------------------------------------------------
     def _alphas(self, r):
         return mapping.anisotropic_alphas(r, self.params["specular_roughness_anisotropy"])
 
@@ -300,17 +326,23 @@ class OpenPBRSurface(Material):
         f0 = _c(p["base_weight"]) * p["base_color"]
         tint = p["specular_color"]
 
-        def conductor(alphas):
-            microfacets = GGX._new(*alphas)
-            f_ms = mapping.metal_multiple_scattering(mapping.f82_average(f0, tint),
-                                                     conductor_average(microfacets))
-            return ConductorMS._new(microfacets, F82Tint._new(f0, tint, _F90, _EXPONENT),
-                                    np.sqrt(f_ms))
+        def conductor(fresnel, f_avg):
+            def make(alphas):
+                microfacets = GGX._new(*alphas)
+                f_ms = mapping.metal_multiple_scattering(f_avg, conductor_average(microfacets))
+                return ConductorMS._new(microfacets, fresnel, np.sqrt(f_ms))
+            return make
 
         if self._hazy and self.haze_model == "barla2018":
             lobe = self._barla(HazyGloss, f0, r, edge_tint=tint)
         else:
-            lobe = self._hazed(conductor, r)
+            lobe = self._hazed(conductor(F82Tint._new(f0, tint, _F90, _EXPONENT),
+                                         mapping.f82_average(f0, tint)), r)
+            if self._film is not None:
+                w, d, n_film = self._film
+                film = ThinFilm.over_f82_tint(d, n_film, f0, tint)
+                lobe = _mix(lobe, self._hazed(conductor(film, _hemispherical_average(film)),
+                                              r), w)
         xi = np.minimum(p["specular_weight"], 1.0)
         if np.any(xi != 1.0):
             lobe = Sum._new((lobe,), [_c(xi)])
@@ -338,6 +370,13 @@ class OpenPBRSurface(Material):
                 reflection = self._hazed(
                     lambda alphas: DielectricReflection._new(GGX._new(*alphas),
                                                              _fresnel(eta)), r)
+                if self._film is not None:
+                    w, d, n_film = self._film
+                    film = ThinFilm(d, n_film, eta)
+                    reflection = _mix(reflection, self._hazed(
+                        lambda alphas: ReferencedReflection._new(
+                            DielectricReflection._new(GGX._new(*alphas), _fresnel(eta)),
+                            film), r), w)
             built["specular"] = _turned(reflection, phi)
             sigma = p["base_diffuse_roughness"]
             if _any(1.0 - S):
@@ -409,6 +448,21 @@ def _acts(p, name) -> bool:
 
 def _fresnel(eta):
     return ExactDielectric._new(np.asarray(eta, dtype=np.float64))
+
+
+#: Gauss-Legendre nodes and weights on [0, 1] for hemispherical averages of a Fresnel model
+_X, _W = np.polynomial.legendre.leggauss(48)
+_MU, _MU_WEIGHTS = 0.5 * (_X + 1.0), 0.5 * _W
+
+
+def _hemispherical_average(fresnel):
+    """F_avg = 2 int_0^1 F(mu) mu dmu ``(..., 3)`` of a Fresnel model by 48-point
+    Gauss-Legendre (the Kulla–Conty colour of a metal whose Fresnel has no closed-form
+    average: the thin film's fringes vary slowly with the angle)."""
+    mu = _MU.reshape((-1,) + (1,) * len(fresnel.param_shape))
+    F = fresnel.from_cos2(mu * mu)
+    w = (_MU_WEIGHTS * _MU).reshape(mu.shape + (1,))
+    return 2.0 * np.sum(w * F, axis=0)
 
 
 def _mix(a, b, w):
