@@ -155,14 +155,13 @@ def test_emission_color_may_exceed_one(tmp_path):
 
 
 def test_warning_of_an_input_not_modelled_surfaces_and_is_recorded(tmp_path):
-    (tmp_path / "glass.mtlx").write_text(_document(
-        '<input name="transmission_dispersion_scale" type="float" value="0.5" />'))
-    with pytest.warns(UserWarning,
-                      match=r"glass\.mtlx: node 'S': .*transmission_dispersion_scale"):
-        result = load_mtlx(tmp_path / "glass.mtlx")
-    assert result["M"].params["transmission_dispersion_scale"] == 0.5
+    (tmp_path / "bumped.mtlx").write_text(_document(
+        '<input name="geometry_coat_normal" type="vector3" value="0, 0.6, 0.8" />'))
+    with pytest.warns(UserWarning, match=r"bumped\.mtlx: node 'S': .*geometry_coat_normal"):
+        result = load_mtlx(tmp_path / "bumped.mtlx")
+    np.testing.assert_array_equal(result["M"].params["geometry_coat_normal"], [0, 0.6, 0.8])
     (message,) = result.records["M"].warnings
-    assert "transmission_dispersion_scale" in message and "not modelled" in message
+    assert "geometry_coat_normal" in message and "not modelled" in message
 
 
 def test_connected_inputs_warn_with_the_value_used():
@@ -361,6 +360,8 @@ def _params_strategy():
                 lambda v: np.linalg.norm(v) > 1e-3)
         if p.name.endswith("_ior"):
             return st.floats(1.05, 2.5)
+        if p.name == "transmission_dispersion_abbe_number":  # its soft range: the channels'
+            return st.floats(*p.soft)                         # indices stay in the tables
         lo, hi = p.hard
         real = st.floats(lo, min(hi, 10.0), exclude_min=p.lo_open)
         return st.tuples(real, real, real) if p.kind == "color" else real

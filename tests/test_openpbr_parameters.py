@@ -126,11 +126,10 @@ def test_planned_inputs_are_stored_and_warn_only_where_they_act():
         warnings.simplefilter("error")
         OpenPBRSurface(subsurface_radius=0.2)  # subsurface_weight 0: no effect, no warning
         OpenPBRSurface()
-    with pytest.warns(UserWarning, match="transmission_dispersion_abbe_number"):
-        m = OpenPBRSurface(transmission_dispersion_scale=0.5,
-                           transmission_dispersion_abbe_number=40.0)
-    assert "transmission_dispersion_abbe_number" in m.planned
-    assert m.params["transmission_dispersion_abbe_number"] == 40.0
+    with pytest.warns(UserWarning, match="geometry_coat_normal"):
+        m = OpenPBRSurface(geometry_coat_normal=(0.0, 0.6, 0.8))
+    assert "geometry_coat_normal" in m.planned
+    np.testing.assert_array_equal(m.params["geometry_coat_normal"], (0.0, 0.6, 0.8))
 
 
 # -- v1.1.1's mappings ------------------------------------------------------------------------

@@ -6,6 +6,7 @@
                                                              rough reflection, any Fresnel
 ``Conductor(...)``                                           the same for a conductor
 ``DielectricReflection(eta, alpha_x, alpha_y=None)``         a dielectric's reflection alone
+``ReferencedReflection(reference, fresnel)``                 any Fresnel, albedo by a reference
 ``Dielectric(eta, alpha_x, alpha_y=None, masking, model)``   rough reflection + refraction
                                                              (model "ggx" or "beckmann";
                                                              ``.over`` takes any distribution)
@@ -17,6 +18,8 @@
 ``LTCSheen(color, roughness)``                               LTC fuzz [Zeltner2022]
 ``HazyGloss(...)``, ``HazyDielectric(...)``                  hazy gloss [Barla2018]
 ``PassThrough()``                                            no interface (a null event)
+``ThinDielectric(eta, alpha_x, alpha_y=None, transmittance=1)``
+                                                             thin translucent sheet, both sides
 
 Operators that combine lobes (``Sum``, ``Mix``, ``Tinted``, ``Layer``, ``Rotated``) are in
 ``adobe_bsdf.composition``; material recipes (that of [Kutz2021]) under
@@ -36,10 +39,17 @@ from adobe_bsdf.lobes.lambert import Lambert
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EON, EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
-from adobe_bsdf.lobes.reflection import Conductor, DielectricReflection, MicrofacetReflection
+from adobe_bsdf.lobes.reflection import (
+    Conductor,
+    DielectricReflection,
+    MicrofacetReflection,
+    ReferencedReflection,
+)
 from adobe_bsdf.lobes.sheen import Sheen
+from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
 
 __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection", "Dielectric",
-           "Dispersive", "ConductorMultipleScattering", "ConductorMS",
+           "ReferencedReflection", "Dispersive", "ConductorMultipleScattering", "ConductorMS",
            "DielectricMultipleScattering", "DielectricMS", "Sheen", "HazyGloss",
-           "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough"]
+           "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough",
+           "ThinDielectric"]

@@ -35,6 +35,7 @@ from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
+from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
 from adobe_bsdf.materials.asm import (
     AdobeStandardMaterial,
     ASMDiffuse,
@@ -294,6 +295,13 @@ _CASES = (
                                      geometry_opacity=0.4),
               cos_theta_o=(1.0, 0.5, 0.1), expected_albedo=_one,
               furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES, reciprocal=False),
+    # -- the thin-walled sheet (both sides: a negative cosine)
+    CheckCase("ThinDielectric clear eta=1.5 a=0.3",
+              lambda: ThinDielectric(1.5, 0.3), cos_theta_o=(1.0, 0.5, -0.3),
+              expected_albedo=_one, furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES),
+    CheckCase("ThinDielectric absorbing (0.9,0.6,0.3) eta=1.33 a=0.15,0.08",
+              lambda: ThinDielectric(1.33, 0.15, 0.08, transmittance=(0.9, 0.6, 0.3)),
+              cos_theta_o=(0.8, -0.4), width=0.3, peak=_straight_through, tags=_TABLES),
 )
 
 

@@ -26,16 +26,18 @@ import warnings
 import numpy as np
 
 from adobe_bsdf import _params, media
-from adobe_bsdf.composition import Layer, Mix, Rotated, Sum, Tinted
+from adobe_bsdf.composition import Facing, Flipped, Layer, Mix, Rotated, Sum, Tinted
 from adobe_bsdf.darkening import VARIANTS, Darkening
 from adobe_bsdf.fresnel import ExactDielectric, F82Tint
+from adobe_bsdf.lobes.dispersive import Dispersive
 from adobe_bsdf.lobes.energy_lookup import conductor_average
 from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
-from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS
+from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS, DielectricMultipleScattering
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.reflection import DielectricReflection, ReferencedReflection
+from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
 from adobe_bsdf.materials.material import Material
 from adobe_bsdf.materials.openpbr import draft, mapping
 from adobe_bsdf.materials.openpbr.parameters import GATES, PARAMETERS, PLANNED
@@ -126,9 +128,11 @@ class OpenPBRSurface(Material):
                                                 VARIANTS)
         self.haze_model = _params.choice("haze_model", haze_model, HAZE_MODELS)
         self._hazy = _any(p["specular_haze"])
+        self.thin_walled = _thin_walled(p["geometry_thin_walled"])
+        # transmission_color acts through the medium at depth > 0 and the thin sheet
+        modelled = self.thin_walled or np.all(p["transmission_depth"] > 0.0)
         self.planned = tuple(name for name in PLANNED if _acts(p, name)
-                             and not (name == "transmission_color"
-                                      and np.all(p["transmission_depth"] > 0.0)))
+                             and not (name == "transmission_color" and modelled))
         if self.planned:
             warnings.warn(f"OpenPBRSurface: {', '.join(self.planned)} not modelled yet: the "
                           "values are stored and have no effect (docs/openpbr.md)",
@@ -165,6 +169,8 @@ class OpenPBRSurface(Material):
             built["fuzz"] = LTCSheen(1.0, p["fuzz_roughness"])
             bsdf = Layer._new(Tinted._new(built["fuzz"], p["fuzz_color"]), bsdf, F)
             self._layers.append(bsdf)
+        if self.thin_walled:
+            bsdf = Facing(bsdf)
         self._eta_s = eta_s
         alpha = p["geometry_opacity"]
         if _any(1.0 - alpha):
@@ -197,11 +203,14 @@ class OpenPBRSurface(Material):
         "subsurface", of weight (1 - M)(1 - T) S, ``media.openpbr_subsurface_medium`` of
         subsurface_radius x subsurface_radius_scale, subsurface_color and
         subsurface_scatter_anisotropy [OpenPBR2026, §Subsurface, §Translucent base]. Only
-        media of non-zero weight somewhere are listed; the weights are ``(...)`` arrays."""
+        media of non-zero weight somewhere are listed; the weights are ``(...)`` arrays. A
+        thin-walled material has none."""
         p = self.params
         dielectric = 1.0 - p["base_metalness"]
         T, S = p["transmission_weight"], p["subsurface_weight"]
         out = {}
+        if self.thin_walled:  # a sheet has no interior
+            return out
         if _any(dielectric * T):
             m = media.openpbr_transmission_medium(p["transmission_color"],
                                                   p["transmission_depth"],
@@ -231,8 +240,11 @@ class OpenPBRSurface(Material):
         through the coat and then the fuzz with the weight each layer gives the light under
         it along ``wo`` (``Layer.exit_weight``: lerp(1, t(wo) (1 - E_top(wo)), w), t the
         coat's one-way view-dependent transmittance sqrt(coat_color)^(1/mu_o^t)), times the
-        presence geometry_opacity."""
+        presence geometry_opacity. A thin wall emits the same from both sides (it always
+        faces ``wo``)."""
         wo = _params.direction("wo", wo)
+        if self.thin_walled:
+            wo = wo * np.where(wo[..., 2:3] < 0.0, -1.0, 1.0)
         p = self.params
         Le = mapping.emission_radiance(p["emission_luminance"], p["emission_color"])
         Le = np.where((wo[..., 2] > 0.0)[..., None], Le * _c(p["geometry_opacity"]), 0.0)
@@ -361,6 +373,9 @@ class OpenPBRSurface(Material):
             raise ValueError("specular_ior below the index above it with haze_model = "
                              "'barla2018': allowed a relative index >= 1 (the hazy-gloss "
                              "mapping's index is n_below / n_above >= 1)")
+        if barla and _any(T * p["transmission_dispersion_scale"]):
+            raise ValueError("transmission_dispersion_scale > 0 with haze_model = 'barla2018': "
+                             "allowed 0 (the hazy dielectric has one index)")
         opaque = None
         if _any(1.0 - T):
             if barla:
@@ -383,7 +398,8 @@ class OpenPBRSurface(Material):
                 rho = _c(p["base_weight"]) * p["base_color"]
                 built["diffuse"] = EnergyPreservingOrenNayar(rho, sigma)
             if _any(S):
-                built["subsurface"] = EnergyPreservingOrenNayar(p["subsurface_color"], sigma)
+                built["subsurface"] = (self._thin_subsurface(sigma) if self.thin_walled else
+                                       EnergyPreservingOrenNayar(p["subsurface_color"], sigma))
             under = _mix(built.get("diffuse"), built.get("subsurface"), S)
             top = built["specular"]
             if np.any(p["specular_color"] != 1.0):
@@ -392,10 +408,47 @@ class OpenPBRSurface(Material):
         if _any(T):
             if barla:
                 glass = self._barla(HazyDielectric, mapping.reflectance_at_normal(eta), r)
+            elif self.thin_walled:
+                glass = self._hazed(lambda alphas: ThinDielectric(
+                    eta, *alphas, transmittance=p["transmission_color"]), r)
+            elif _any(p["transmission_dispersion_scale"]):
+                glass = self._hazed(lambda alphas: self._dispersive(eta, GGX._new(*alphas)), r)
             else:
                 glass = self._hazed(lambda alphas: DielectricMS._new(eta, GGX._new(*alphas)), r)
             built["transmission"] = _turned(glass, phi)
         return _mix(opaque, built.get("transmission"), T)
+
+    def _dispersive(self, eta, microfacets):
+        """The translucent base with dispersion [OpenPBR2026, §Dispersion]: V_d =
+        transmission_dispersion_abbe_number / transmission_dispersion_scale, n_d = ``eta``
+        (the modulated index), one index per RGB channel by Cauchy's equation
+        (``lobes.Dispersive`` with the Dispersion 20 / V_d of [Kutz2021, eq. 12]), each
+        channel compensated by the Kulla–Conty term of its own index (a
+        ``DielectricMultipleScattering`` per channel, masked to it), so a white glass keeps
+        its energy in every channel."""
+        p = self.params
+        D = 20.0 * p["transmission_dispersion_scale"] / p["transmission_dispersion_abbe_number"]
+        names = "transmission_dispersion_abbe_number / transmission_dispersion_scale"
+        try:
+            glass = Dispersive._new(eta, D, microfacets)
+        except ValueError as error:  # a channel's index at 1 or below
+            raise ValueError(f"{names} = V_d {np.min(20.0 / D)!r}: {error}") from None
+        _in_tables(f"{names} (the channels' Cauchy indices)", glass.eta)
+        channels = np.eye(3)
+        terms = [DielectricMultipleScattering._new(glass.eta[..., c], microfacets)
+                 for c in range(3)]
+        return Sum._new((glass, *terms), [None, *channels])
+
+    def _thin_subsurface(self, sigma):
+        """The thin-walled subsurface [OpenPBR2026, §Thin-walled mode]: f_R = S (1 - g) / 2 f_+
+        and f_T = S (1 + g) / 2 f_-, S = subsurface_color, g = subsurface_scatter_anisotropy,
+        f_+ the unit-albedo EON diffuse of roughness ``sigma`` and f_- the same ``Flipped``
+        into the other hemisphere (its radius and radius scale are ignored, as v1.1.1 says)."""
+        p = self.params
+        S, g = p["subsurface_color"], _c(p["subsurface_scatter_anisotropy"])
+        diffuse = EnergyPreservingOrenNayar(1.0, sigma)
+        return Sum._new((diffuse, Flipped._new(diffuse)), [0.5 * S * (1.0 - g),
+                                                          0.5 * S * (1.0 + g)])
 
     def _coat(self, base, eta_s, built):
         """The coat over ``base`` [OpenPBR2026, §Coat]."""
@@ -448,6 +501,15 @@ def _acts(p, name) -> bool:
 
 def _fresnel(eta):
     return ExactDielectric._new(np.asarray(eta, dtype=np.float64))
+
+
+def _thin_walled(flag) -> bool:
+    """geometry_thin_walled as one switch (a texture of it must not mix the two modes)."""
+    flag = np.asarray(flag)
+    if flag.size and np.any(flag != flag.flat[0]):
+        raise ValueError("geometry_thin_walled differs across the texture: allowed one value "
+                         "for the whole material (thin walls and a bulk interior do not mix)")
+    return bool(flag.flat[0]) if flag.size else False
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for hemispherical averages of a Fresnel model

@@ -153,14 +153,17 @@ STATUS = {
                               "limit the relative index to [1/3, 3]"),
     "transmission_weight": (_DONE, "`composition.Mix` of opaque and translucent bases; "
                                    "`lobes.DielectricMS`"),
-    "transmission_color": (_PLANNED, "depth > 0: the medium's Beer's law (`medium()`); "
-                                     "depth 0, the tint of the refraction: planned"),
+    "transmission_color": (_PLANNED, "depth > 0: the medium's Beer's law (`medium()`); thin "
+                                     "walls: the sheet's transmittance; depth 0, the tint of "
+                                     "the refraction: planned"),
     "transmission_depth": (_DONE, "`media.openpbr_transmission_medium` (`medium()`)"),
     "transmission_scatter": (_CHOICE, "σ_s = S/d; the negative-absorption shift of v1.1.1 "
                                       "(not dev_1.2's single-scattering albedo)"),
     "transmission_scatter_anisotropy": (_DONE, "HG g of the translucent medium"),
-    "transmission_dispersion_scale": (_PLANNED, "dispersion (Cauchy)"),
-    "transmission_dispersion_abbe_number": (_PLANNED, "dispersion (Cauchy)"),
+    "transmission_dispersion_scale": (_DONE, "V_d = abbe / scale: `lobes.Dispersive` and a "
+                                             "Kulla–Conty term per channel (bulk only)"),
+    "transmission_dispersion_abbe_number": (_DONE, "Cauchy's equation through n_d = η' and "
+                                                   "V_d"),
     "subsurface_weight": (_CHOICE, "the dense limit: glossy-diffuse of ρ = subsurface_color "
                                    "under the same interface; its medium is `medium()`"),
     "subsurface_color": (_CHOICE, "ρ of that limit: E = (1 − E_spec) C at normal incidence, "
@@ -195,7 +198,9 @@ STATUS = {
                                "by `ThinFilm.over_f82_tint` (Gulbrandsen's index)"),
     "geometry_opacity": (_DONE, "`composition.Mix` with `lobes.PassThrough`; "
                                 "`shadow_transmittance(wo)`"),
-    "geometry_thin_walled": (_PLANNED, "thin-walled mode"),
+    "geometry_thin_walled": (_CHOICE, "always-facing sheet (`composition.Facing`): metal and "
+                                      "glossy-diffuse double-sided, `lobes.ThinDielectric`, "
+                                      "subsurface f_R / f_T with g; no media"),
     "geometry_normal": (_PLANNED, "normal maps"),
     "geometry_tangent": (_DONE, "`composition.Rotated` by its azimuth in the local frame"),
     "geometry_coat_normal": (_PLANNED, "normal maps"),
