@@ -28,7 +28,7 @@ def test_channel_indices_follow_cauchy():
     """n(lambda) = A + B / lambda^2 with n(lambda_d) = 1.5 and (n_d - 1) / (n_F - n_C) =
     V_d = 25 / 0.8, at the channels' wavelengths (written out here)."""
     m = OpenPBRSurface(**GLASS, **DISPERSION)
-    eta = m.lobes["transmission"].components[0].eta
+    eta = m.lobes["transmission"].eta
     V = 25.0 / 0.8
     lam_d, lam_F, lam_C = (FRAUNHOFER_NM[k] for k in "dFC")
     B = (1.5 - 1.0) / (V * (lam_F**-2 - lam_C**-2))

@@ -18,6 +18,7 @@
 ``LTCSheen(color, roughness)``                               LTC fuzz [Zeltner2022]
 ``HazyGloss(...)``, ``HazyDielectric(...)``                  hazy gloss [Barla2018]
 ``PassThrough()``                                            no interface (a null event)
+``TintedRefraction(lobe, tint)``                             a DielectricMS, refraction tinted
 ``ThinDielectric(eta, alpha_x, alpha_y=None, transmittance=1)``
                                                              thin translucent sheet, both sides
 
@@ -47,9 +48,10 @@ from adobe_bsdf.lobes.reflection import (
 )
 from adobe_bsdf.lobes.sheen import Sheen
 from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
+from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 
 __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection", "Dielectric",
            "ReferencedReflection", "Dispersive", "ConductorMultipleScattering", "ConductorMS",
            "DielectricMultipleScattering", "DielectricMS", "Sheen", "HazyGloss",
            "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough",
-           "ThinDielectric"]
+           "ThinDielectric", "TintedRefraction"]

@@ -8,6 +8,7 @@ Public API
 ``DielectricMultipleScattering``  reflection and transmission terms for a rough dielectric
                                   interface, both sides.
 ``DielectricMS``                  ``Dielectric`` + that term.
+``DispersiveMS``                  ``Dispersive`` + that term of each channel's index.
 
 The conductor term reads E(wo) from "ggx_conductor" where isotropic and from
 "ggx_conductor_anisotropic" (a function of wo's azimuth) where alpha_x != alpha_y; with E_avg
@@ -30,6 +31,7 @@ from adobe_bsdf import _params, tables
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.composition import Sum
 from adobe_bsdf.lobes.dielectric import Dielectric, _eta, interface_energy_scale
+from adobe_bsdf.lobes.dispersive import Dispersive
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
     conductor_average,
@@ -44,7 +46,7 @@ from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.microfacet import GGX
 
 __all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScattering",
-           "DielectricMS"]
+           "DielectricMS", "DispersiveMS"]
 
 
 def _inverse_loss(E_avg):
@@ -244,3 +246,28 @@ class DielectricMS(Sum):
         """Both terms over the one ``distribution``."""
         super()._init((Dielectric._new(eta, distribution),
                        DielectricMultipleScattering._new(eta, distribution)))
+
+
+class DispersiveMS(Sum):
+    """A dispersive rough dielectric with Kulla–Conty multiple scattering per channel:
+    ``Dispersive`` (one index per RGB channel by Cauchy's equation [Kutz2021, §4]) plus, for
+    each channel c, the ``DielectricMultipleScattering`` of its index masked to channel c, so
+    that every channel keeps the energy of its own ``DielectricMS``. The interface (energy
+    scale, generalized reciprocity) is the ``Dispersive`` one, per channel.
+
+    Parameters
+    ----------
+    eta, dispersion : as ``Dispersive`` (n_d below / n above, the Dispersion 20 / V_d).
+    alpha_x, alpha_y : array_like in [0, 2]
+    """
+
+    def __init__(self, eta, dispersion, alpha_x, alpha_y=None):
+        self._init(_eta(eta), _params.real("dispersion", dispersion, 0.0, np.inf),
+                   GGX(alpha_x, alpha_y))
+
+    def _init(self, eta, dispersion, distribution: GGX):
+        glass = Dispersive._new(eta, dispersion, distribution)
+        #: the multiple-scattering term of each channel's index
+        self.channels = tuple(DielectricMultipleScattering._new(glass.eta[..., c], distribution)
+                              for c in range(3))
+        super()._init((glass, *self.channels), [None, *np.eye(3)])

@@ -29,15 +29,15 @@ from adobe_bsdf import _params, media
 from adobe_bsdf.composition import Facing, Flipped, Layer, Mix, Rotated, Sum, Tinted
 from adobe_bsdf.darkening import VARIANTS, Darkening
 from adobe_bsdf.fresnel import ExactDielectric, F82Tint
-from adobe_bsdf.lobes.dispersive import Dispersive
 from adobe_bsdf.lobes.energy_lookup import conductor_average
 from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
-from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS, DielectricMultipleScattering
+from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS, DispersiveMS
 from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.reflection import DielectricReflection, ReferencedReflection
 from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
+from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 from adobe_bsdf.materials.material import Material
 from adobe_bsdf.materials.openpbr import draft, mapping
 from adobe_bsdf.materials.openpbr.parameters import GATES, PARAMETERS, PLANNED
@@ -129,10 +129,7 @@ class OpenPBRSurface(Material):
         self.haze_model = _params.choice("haze_model", haze_model, HAZE_MODELS)
         self._hazy = _any(p["specular_haze"])
         self.thin_walled = _thin_walled(p["geometry_thin_walled"])
-        # transmission_color acts through the medium at depth > 0 and the thin sheet
-        modelled = self.thin_walled or np.all(p["transmission_depth"] > 0.0)
-        self.planned = tuple(name for name in PLANNED if _acts(p, name)
-                             and not (name == "transmission_color" and modelled))
+        self.planned = tuple(name for name in PLANNED if _acts(p, name))
         if self.planned:
             warnings.warn(f"OpenPBRSurface: {', '.join(self.planned)} not modelled yet: the "
                           "values are stored and have no effect (docs/openpbr.md)",
@@ -411,33 +408,38 @@ class OpenPBRSurface(Material):
             elif self.thin_walled:
                 glass = self._hazed(lambda alphas: ThinDielectric(
                     eta, *alphas, transmittance=p["transmission_color"]), r)
-            elif _any(p["transmission_dispersion_scale"]):
-                glass = self._hazed(lambda alphas: self._dispersive(eta, GGX._new(*alphas)), r)
             else:
-                glass = self._hazed(lambda alphas: DielectricMS._new(eta, GGX._new(*alphas)), r)
+                glass = self._hazed(lambda alphas: self._glass(eta, GGX._new(*alphas)), r)
             built["transmission"] = _turned(glass, phi)
         return _mix(opaque, built.get("transmission"), T)
 
-    def _dispersive(self, eta, microfacets):
-        """The translucent base with dispersion [OpenPBR2026, §Dispersion]: V_d =
-        transmission_dispersion_abbe_number / transmission_dispersion_scale, n_d = ``eta``
-        (the modulated index), one index per RGB channel by Cauchy's equation
-        (``lobes.Dispersive`` with the Dispersion 20 / V_d of [Kutz2021, eq. 12]), each
-        channel compensated by the Kulla–Conty term of its own index (a
-        ``DielectricMultipleScattering`` per channel, masked to it), so a white glass keeps
-        its energy in every channel."""
+    def _glass(self, eta, microfacets):
+        """The bulk translucent base: ``DielectricMS`` at ``eta``, its refraction tinted by
+        transmission_color where transmission_depth is 0 (``lobes.TintedRefraction``: "a
+        constant tint on the refraction", [OpenPBR2026, §Translucent base]; at depth > 0 the
+        colour is the medium's, ``media()``).
+
+        With dispersion [OpenPBR2026, §Dispersion]: V_d = transmission_dispersion_abbe_number
+        / transmission_dispersion_scale, n_d = ``eta`` (the modulated index), one index per
+        RGB channel by Cauchy's equation (``lobes.DispersiveMS``: ``lobes.Dispersive`` at the
+        Dispersion 20 / V_d of [Kutz2021, eq. 12] with each channel's own Kulla–Conty term):
+        a white glass keeps its energy in every channel."""
         p = self.params
-        D = 20.0 * p["transmission_dispersion_scale"] / p["transmission_dispersion_abbe_number"]
-        names = "transmission_dispersion_abbe_number / transmission_dispersion_scale"
-        try:
-            glass = Dispersive._new(eta, D, microfacets)
-        except ValueError as error:  # a channel's index at 1 or below
-            raise ValueError(f"{names} = V_d {np.min(20.0 / D)!r}: {error}") from None
-        _in_tables(f"{names} (the channels' Cauchy indices)", glass.eta)
-        channels = np.eye(3)
-        terms = [DielectricMultipleScattering._new(glass.eta[..., c], microfacets)
-                 for c in range(3)]
-        return Sum._new((glass, *terms), [None, *channels])
+        T = p["transmission_color"]
+        tint = np.where((p["transmission_depth"] == 0.0)[..., None], T, 1.0)
+
+        if not _any(p["transmission_dispersion_scale"]):
+            lobe = DielectricMS._new(eta, microfacets)
+        else:
+            D = (20.0 * p["transmission_dispersion_scale"]
+                 / p["transmission_dispersion_abbe_number"])
+            names = "transmission_dispersion_abbe_number / transmission_dispersion_scale"
+            try:
+                lobe = DispersiveMS._new(eta, D, microfacets)
+            except ValueError as error:  # a channel's index at 1 or below, or out of tables
+                raise ValueError(f"{names} = V_d {np.min(20.0 / D)!r}: {error}") from None
+            _in_tables(f"{names} (the channels' Cauchy indices)", lobe.eta)
+        return TintedRefraction._new(lobe, tint) if np.any(tint != 1.0) else lobe
 
     def _thin_subsurface(self, sigma):
         """The thin-walled subsurface [OpenPBR2026, §Thin-walled mode]: f_R = S (1 - g) / 2 f_+

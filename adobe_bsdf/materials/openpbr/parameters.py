@@ -153,9 +153,9 @@ STATUS = {
                               "limit the relative index to [1/3, 3]"),
     "transmission_weight": (_DONE, "`composition.Mix` of opaque and translucent bases; "
                                    "`lobes.DielectricMS`"),
-    "transmission_color": (_PLANNED, "depth > 0: the medium's Beer's law (`medium()`); thin "
-                                     "walls: the sheet's transmittance; depth 0, the tint of "
-                                     "the refraction: planned"),
+    "transmission_color": (_DONE, "depth 0: `lobes.TintedRefraction`; depth > 0: the "
+                                  "medium's Beer's law (`medium()`); thin walls: the sheet's "
+                                  "transmittance"),
     "transmission_depth": (_DONE, "`media.openpbr_transmission_medium` (`medium()`)"),
     "transmission_scatter": (_CHOICE, "σ_s = S/d; the negative-absorption shift of v1.1.1 "
                                       "(not dev_1.2's single-scattering albedo)"),
@@ -201,9 +201,11 @@ STATUS = {
     "geometry_thin_walled": (_CHOICE, "always-facing sheet (`composition.Facing`): metal and "
                                       "glossy-diffuse double-sided, `lobes.ThinDielectric`, "
                                       "subsurface f_R / f_T with g; no media"),
-    "geometry_normal": (_PLANNED, "normal maps"),
+    "geometry_normal": (_PLANNED, "the caller's frame is the shading frame: left to the "
+                                  "caller (docs/openpbr.md, Inputs not yet modelled)"),
     "geometry_tangent": (_DONE, "`composition.Rotated` by its azimuth in the local frame"),
-    "geometry_coat_normal": (_PLANNED, "normal maps"),
+    "geometry_coat_normal": (_PLANNED, "a shading normal of the coat: left to the caller "
+                                       "(docs/openpbr.md, Inputs not yet modelled)"),
     "geometry_coat_tangent": (_DONE, "`composition.Rotated` by its azimuth"),
     "specular_haze": ("extension", "dev_1.2: (1 − w) f_core + w f_haze on metal and dielectric "
                                    "base, each compensated"),
