@@ -1,12 +1,13 @@
 """adobe_bsdf: a pure-NumPy reference implementation of the Adobe Standard Material, the
-generalized F82 Fresnel model and hazy gloss; OpenPBR Surface is planned.
+generalized F82 Fresnel model, hazy gloss and OpenPBR Surface v1.1.1.
 
 Layers, each importing only those below it (``docs/architecture.md``): core maths
 (``fresnel``, ``microfacet``, ``frame``, ``spectral``, ``haze``, ...) ← ``tables`` and
 ``quadrature`` ← ``bsdf`` (the protocol) ← ``composition`` ← ``lobes`` ← ``materials``;
 ``layered`` (the stochastic layered reference) beside ``materials``; ``validation``,
 ``render``, ``plot``, ``paper_figures`` and the command line beside them.
-The validation toolkit is imported on its own: ``import adobe_bsdf.validation``.
+The validation toolkit and the MaterialX reader are imported on their own:
+``import adobe_bsdf.validation``, ``import adobe_bsdf.io``.
 """
 
 from adobe_bsdf import (
@@ -29,6 +30,7 @@ from adobe_bsdf import (
     render,
     spectral,
     tables,
+    thin_film,
 )
 from adobe_bsdf._version import __version__
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
@@ -38,6 +40,6 @@ from adobe_bsdf.microfacet import GGX, Beckmann
 
 __all__ = ["composition", "config", "darkening", "dispersion", "frame", "fresnel", "haze", "hazy",
            "layered", "lobes", "materials", "media", "microfacet", "paper_figures", "plot",
-           "quadrature", "render", "spectral", "tables",
+           "quadrature", "render", "spectral", "tables", "thin_film",
            "BSDFSample", "Flags", "Lobe", "LayeredReference", "Frame", "GGX", "Beckmann",
            "__version__"]
