@@ -114,7 +114,8 @@ def sampling(smoke):
     """Rows (material, cos theta_o, p, threshold, worst weight error)."""
     names = list(presets.openpbr)[:3] if smoke else list(presets.openpbr)
     cases = [(n, c) for n in names for c in (0.8, 0.3, -0.6)
-             if c > 0 or presets.openpbr[n].get("transmission_weight")]
+             if c > 0 or presets.openpbr[n].get("transmission_weight")
+             or presets.openpbr[n].get("geometry_thin_walled")]
     rows = []
     for k, (name, c) in enumerate(cases):
         m, wo = _material(presets.openpbr[name]), _wo(abs(c)) * [1, 1, np.sign(c)]
