@@ -207,9 +207,6 @@ def airy_reflectance(wavelength_nm, cos_theta, thickness_nm, film_ior, substrate
     outside_ior : array_like, in (0, inf)
         Index n1 of the (non-absorbing) medium the light comes from.
 
-    Every argument broadcasts against the others (e.g. wavelengths ``(L,)`` against
-    cosines ``(N, 1)``).
-
     Returns
     -------
     ndarray, the broadcast shape: the unpolarised reflectance R = (|r_s|^2 + |r_p|^2) / 2,
@@ -217,6 +214,9 @@ def airy_reflectance(wavelength_nm, cos_theta, thickness_nm, film_ior, substrate
 
     Notes
     -----
+    Every argument broadcasts against the others (e.g. wavelengths ``(L,)`` against
+    cosines ``(N, 1)``).
+
     r = (r12 + r23 e^{i delta}) / (1 + r12 r23 e^{i delta}), delta = 4 pi n2 d cos theta2 /
     lambda, the geometric series of the reflections inside the film summed in closed form
     [Belcour2017, §Thin-film interference], [BornWolf1980, §1.6.4]; r_ij are the Fresnel
@@ -310,12 +310,12 @@ class ThinFilm(Fresnel):
         film of n2 = 1.2 in air), and a Fresnel factor outside [0, 1] would make a lobe
         negative or gain energy. ``clip=False`` returns the conversion as it is.
 
+    Notes
+    -----
     Every parameter broadcasts (a texture of thicknesses evaluates in one call);
     ``param_shape`` is their batch shape. Indices are absolute (or all relative to the
     same medium).
 
-    Notes
-    -----
     Colour (``spectral.reflectance_to_rgb``): the samples are interpolated linearly onto a
     1 nm grid and integrated against the CIE 1931 2-degree colour matching functions
     (colour-science) times the illuminant, then converted to linear Rec. 709 by the BT.709

@@ -43,8 +43,3 @@ def test_media_are_the_mappings_with_their_presence_weights():
                                rtol=1e-15)
     for a, b in zip(m.medium(), ss, strict=True):  # the larger presence
         np.testing.assert_array_equal(a, b)
-
-
-def test_transmission_colour_at_depth_zero_is_still_planned():
-    with pytest.warns(UserWarning, match="transmission_color"):
-        OpenPBRSurface(transmission_weight=1.0, transmission_color=0.5)

@@ -18,9 +18,9 @@ _T = int(Flags.TRANSMISSION)
 
 class TintedRefraction(Wrapper):
     """``DielectricMS`` (or ``DispersiveMS``, channel by channel) with every refraction
-    multiplied by the colour ``tint``, f = f_R + t f_T: a constant tint on the refraction,
-    the translucent base of an interface with no medium behind it [OpenPBR2026, §Translucent
-    base]; t = 1 is the lobe.
+    multiplied by the colour ``tint``, f = f_R + t f_T: a constant tint on the refraction of
+    an interface with no medium behind it [OpenPBR2026, §Translucent base]; t = 1 is the
+    lobe.
 
     Reflection pairs (both directions on one side) are the lobe's, refraction pairs and
     refracted samples are multiplied by t; pdfs and sampled directions are the lobe's, so
