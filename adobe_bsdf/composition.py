@@ -844,7 +844,35 @@ def _mirrored(w, where=True):
 _R, _TR = int(Flags.REFLECTION), int(Flags.TRANSMISSION)
 
 
-class Flipped(Wrapper):
+class _Mirroring(Wrapper):
+    """Base of ``Flipped`` and ``Facing``: one inner lobe seen through the mirror
+    M = diag(1, 1, -1) of the surface plane (the subclass says which directions it mirrors)."""
+
+    def __init__(self, lobe: Lobe):
+        if not isinstance(lobe, Lobe):
+            raise ValueError(f"lobe = {lobe!r}: allowed a Lobe")
+        self._init(lobe)
+
+    def _init(self, lobe):
+        self.lobe = lobe
+        self.flags = self._flags(lobe.flags)
+
+    @staticmethod
+    def _flags(flags):
+        """The flags of the mirrored lobe."""
+        return flags
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.lobe!r})"
+
+    def _inner(self):
+        return self.lobe
+
+    def _param_shape(self):
+        return self.lobe._param_shape()
+
+
+class Flipped(_Mirroring):
     """``lobe`` with its scattered side mirrored through the surface plane,
     f(wo, wi) = lobe.f(wo, M wi), M = diag(1, 1, -1): a reflection lobe becomes a transmission
     lobe into the other hemisphere (and the reverse), as in a thin sheet whose two faces are
@@ -862,23 +890,9 @@ class Flipped(Wrapper):
     lobe : Lobe
     """
 
-    def __init__(self, lobe: Lobe):
-        if not isinstance(lobe, Lobe):
-            raise ValueError(f"lobe = {lobe!r}: allowed a Lobe")
-        self._init(lobe)
-
-    def _init(self, lobe):
-        self.lobe = lobe
-        self.flags = Flags(_swap_sides(int(lobe.flags)))
-
-    def __repr__(self) -> str:
-        return f"Flipped({self.lobe!r})"
-
-    def _inner(self):
-        return self.lobe
-
-    def _param_shape(self):
-        return self.lobe._param_shape()
+    @staticmethod
+    def _flags(flags):
+        return Flags(_swap_sides(int(flags)))
 
     def _directions(self, wo, wi):
         return wo, None if wi is None else _mirrored(wi)
@@ -895,7 +909,7 @@ def _swap_sides(flags):
     return (flags & ~both) | swapped
 
 
-class Facing(Wrapper):
+class Facing(_Mirroring):
     """``lobe`` always seen from its top side: where wo is below the surface both directions
     are mirrored through the plane, f(wo, wi) = lobe.f(M wo, M wi), and samples mirrored back
     (the "always facing" sheet of [Andersson2023, §Thin-walled case] that OpenPBR v1.1.1
@@ -911,24 +925,6 @@ class Facing(Wrapper):
     ----------
     lobe : Lobe
     """
-
-    def __init__(self, lobe: Lobe):
-        if not isinstance(lobe, Lobe):
-            raise ValueError(f"lobe = {lobe!r}: allowed a Lobe")
-        self._init(lobe)
-
-    def _init(self, lobe):
-        self.lobe = lobe
-        self.flags = lobe.flags
-
-    def __repr__(self) -> str:
-        return f"Facing({self.lobe!r})"
-
-    def _inner(self):
-        return self.lobe
-
-    def _param_shape(self):
-        return self.lobe._param_shape()
 
     def _directions(self, wo, wi):
         below = wo[..., 2] < 0.0

@@ -12,15 +12,13 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
 
 from adobe_bsdf import media
-from benchmarks import generated_by, report_main
+from benchmarks import generated_by, report_main, write_page
 
-DOCS = Path(__file__).resolve().parents[1] / "docs"
 METHOD_PAGE = "openpbr.md"
 COLOURS = (0.05, 0.2, 0.5, 0.8, 0.95)
 ANISOTROPIES = (-0.5, 0.0, 0.5, 0.8)
@@ -118,13 +116,8 @@ def _markdown(sub, beer_error, pairs, seconds):
 
 
 def run(out: Path | None = None, smoke: bool = False) -> Path:
-    start = time.perf_counter()
-    docs = DOCS if out is None else Path(out)
-    docs.mkdir(parents=True, exist_ok=True)
-    parts = (subsurface(smoke), beer(), side_by_side())
-    path = docs / "media.md"
-    path.write_text(_markdown(*parts, time.perf_counter() - start), encoding="utf-8")
-    return path
+    return write_page(out, "media.md", lambda: (subsurface(smoke), beer(), side_by_side()),
+                      _markdown)
 
 
 def main(argv=None) -> int:

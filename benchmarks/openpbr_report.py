@@ -30,10 +30,9 @@ from adobe_bsdf.lobes import EnergyPreservingOrenNayar, Lambert
 from adobe_bsdf.materials import OpenPBRSurface, presets
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation.chi2 import chi2_test
-from benchmarks import generated_by, report_main
+from benchmarks import generated_by, report_main, write_page
 from benchmarks.throughput import memory_pass
 
-DOCS = Path(__file__).resolve().parents[1] / "docs"
 METHOD_PAGE = "openpbr.md"
 FURNACE_MU = (1.0, 0.7, 0.4, 0.1)
 CHI2_ALPHA = 0.01
@@ -289,14 +288,9 @@ def _markdown(furnace_rows, haze_rows, sampling_rows, reciprocity_rows, peer_row
 
 
 def run(out: Path | None = None, smoke: bool = False) -> Path:
-    start = time.perf_counter()
-    docs = DOCS if out is None else Path(out)
-    docs.mkdir(parents=True, exist_ok=True)
-    furnace_rows, haze_rows = furnace(smoke)
-    parts = (furnace_rows, haze_rows, sampling(smoke), reciprocity(smoke), peer(), cost(smoke))
-    path = docs / "openpbr_measured.md"
-    path.write_text(_markdown(*parts, time.perf_counter() - start), encoding="utf-8")
-    return path
+    return write_page(out, "openpbr_measured.md",
+                      lambda: (*furnace(smoke), sampling(smoke), reciprocity(smoke), peer(),
+                               cost(smoke)), _markdown)
 
 
 def main(argv=None) -> int:

@@ -24,9 +24,7 @@ import numpy as np
 from adobe_bsdf import tables
 from adobe_bsdf.lobes.sheen import R_SIMILAR, Sheen
 from adobe_bsdf.tables.catalog import sheen_energy
-from benchmarks import generated_by, report_main
-
-DOCS = Path(__file__).resolve().parents[1] / "docs"
+from benchmarks import generated_by, report_main, write_page
 
 
 def _wo(mu):
@@ -324,14 +322,10 @@ def _markdown(big, normal, vals, curve, interp, facts, meth, succ, seconds):
 
 
 def run(out: Path | None = None, smoke: bool = False) -> Path:
-    start = time.perf_counter()
-    docs = DOCS if out is None else Path(out)
-    docs.mkdir(parents=True, exist_ok=True)
-    parts = (largest_albedo(smoke), near_normal(smoke), values(), curves(),
-             interpolation(smoke), table_facts(), methods(smoke), success(smoke))
-    path = docs / "sheen_measured.md"
-    path.write_text(_markdown(*parts, time.perf_counter() - start), encoding="utf-8")
-    return path
+    return write_page(out, "sheen_measured.md",
+                      lambda: (largest_albedo(smoke), near_normal(smoke), values(), curves(),
+                               interpolation(smoke), table_facts(), methods(smoke),
+                               success(smoke)), _markdown)
 
 
 def main(argv=None) -> int:
