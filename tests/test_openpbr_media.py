@@ -43,3 +43,23 @@ def test_media_are_the_mappings_with_their_presence_weights():
                                rtol=1e-15)
     for a, b in zip(m.medium(), ss, strict=True):  # the larger presence
         np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("p", [
+    dict(subsurface_weight=1.0, subsurface_color=1.0, specular_color=1.0,
+         subsurface_radius=0.3, subsurface_scatter_anisotropy=0.5),
+    dict(transmission_weight=1.0, transmission_color=1.0, specular_roughness=0.3),
+    dict(transmission_weight=1.0, transmission_depth=0.5, transmission_scatter=1.0,
+         transmission_color=1.0, specular_roughness=0.3)])
+def test_white_furnace_of_the_media_cases(p):
+    """The specification's furnace cases of this kind: the surface's energy albedo (both
+    sides of a glass) is 1 +- 2e-3, and the medium behind it (where there is one) is
+    lossless, so the walk inside returns all the light it is given."""
+    m = OpenPBRSurface(**p)
+    mu = np.array([0.9, 0.4])
+    s = np.sqrt(1 - mu**2)
+    up = np.stack([s, 0 * s, mu], -1)
+    wo = np.concatenate([up, -up]) if p.get("transmission_weight") else up
+    np.testing.assert_allclose(m.albedo(wo, tol=1e-6), 1.0, atol=2e-3)
+    for _, medium in m.media().values():
+        np.testing.assert_allclose(medium.albedo, 1.0, rtol=1e-12)
