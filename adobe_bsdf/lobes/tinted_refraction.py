@@ -70,8 +70,9 @@ class TintedRefraction(Wrapper):
 
     # -- f: the tint on refraction pairs --------------------------------------------------
     def _tinted(self, f, wo, wi):
-        across = (wo[..., 2] * wi[..., 2] < 0.0)[..., None]
-        return np.where(across, f * self.tint, f)
+        zo, zi = wo[..., 2], wi[..., 2]
+        across = ((zo < 0.0) != (zi < 0.0)) & (zo != 0.0) & (zi != 0.0)  # signs: no underflow
+        return np.where(across[..., None], f * self.tint, f)
 
     def _eval(self, wo, wi):
         return self._tinted(self.lobe._eval(wo, wi), wo, wi)
@@ -117,10 +118,10 @@ class TintedRefraction(Wrapper):
         pass-through only refracts."""
         return self._split(self.lobe._delta_albedo(wo), self._seen("_delta_albedo", wo))
 
-    def _reflected(self, wo, table):
-        """E_R(wo): the interface's reflection (its table, else its delta) plus the
-        Kulla–Conty term's reflected share."""
-        single = self._seen("_top_albedo", wo) if table else 0.0
+    def _reflected(self, wo):
+        """E_R(wo): the interface's reflection (its table, or its exact Fresnel where smooth)
+        plus the Kulla–Conty term's reflected share."""
+        single = self._seen("_top_albedo", wo)
         grazing = wo[..., 2] == 0.0
         multiple = [np.where(grazing, 0.0, ms._reflect_probability(wo))[..., None]
                     * ms._albedo_table(wo, False)[0] for ms in self._multiple]
@@ -128,7 +129,7 @@ class TintedRefraction(Wrapper):
 
     def _albedo_table(self, wo, with_error=True):
         E, error = self.lobe._albedo_table(wo, with_error)
-        return np.minimum(self._split(E, np.minimum(self._reflected(wo, True), E)), E), error
+        return np.minimum(self._split(E, np.minimum(self._reflected(wo), E)), E), error
 
     def _top_albedo(self, wo):
         return self._albedo_table(wo, with_error=False)[0]

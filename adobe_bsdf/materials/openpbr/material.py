@@ -82,9 +82,9 @@ class OpenPBRSurface(Material):
     """OpenPBR Surface v1.1.1 [OpenPBR2026] (module docstring): keyword arguments are the
     specification's 41 inputs (``PARAMETERS``: kind, default, hard and soft range) plus the
     development branch's ``specular_haze`` and ``specular_haze_spread``; each broadcasts, so
-    a texture of parameters evaluates in one call. Inputs not yet modelled (``PLANNED``:
-    thin film, media, thin walls, normal maps) are accepted and stored;
-    setting one away from its default warns.
+    a texture of parameters evaluates in one call. The inputs not modelled (``PLANNED``: the
+    normal maps, left to the caller, ``docs/openpbr.md``) are accepted and stored; setting
+    one away from its default warns.
 
     Lobes (``lobes`` names the ones built):
     - "metal": ``ConductorMS`` (Kulla–Conty) with ``fresnel.F82Tint`` of F0 = base_weight
@@ -94,7 +94,9 @@ class OpenPBRSurface(Material):
       (``mapping.effective_ior``, ``mapping.specular_ior_modulation``), ``Tinted`` by
       specular_color, over "diffuse" (``EnergyPreservingOrenNayar`` of base_weight
       base_color) and "subsurface" (the same of subsurface_color: the slab's dense limit);
-    - "transmission": ``DielectricMS`` at the modulated index;
+    - "transmission": ``DielectricMS`` at the modulated index (``DispersiveMS`` with
+      dispersion, ``TintedRefraction`` by transmission_color at depth 0; thin-walled:
+      ``ThinDielectric``);
     - "coat": the coat's reflection (index coat_ior) over the base, with coverage
       coat_weight, coat_color as the two-way transmittance at normal incidence made view
       dependent, the base roughened (``mapping.base_roughening``) and darkened
@@ -147,11 +149,13 @@ class OpenPBRSurface(Material):
         self._film = self._thin_film(C if coat else None)
         phi = mapping.tangent_rotation(p["geometry_tangent"])
         metal = self._metal(r, phi) if _any(M) else None
-        eta_s = dielectric = None
+        #: the dielectric base's modulated relative index (None without a dielectric base)
+        eta_s = dielectric = self._eta = None
         if _any(1.0 - M):
             eta_s = mapping.effective_ior(p["specular_ior"], p["coat_ior"], C)
             eta = mapping.specular_ior_modulation(eta_s, p["specular_weight"])
             _in_tables("specular_ior (with specular_weight and the coat)", eta)
+            self._eta = eta
             dielectric = self._dielectric(eta, r, phi, built)
         if metal is not None:
             built["metal"] = metal
@@ -168,7 +172,6 @@ class OpenPBRSurface(Material):
             self._layers.append(bsdf)
         if self.thin_walled:
             bsdf = Facing(bsdf)
-        self._eta_s = eta_s
         alpha = p["geometry_opacity"]
         if _any(1.0 - alpha):
             built["pass-through"] = PassThrough()
@@ -268,10 +271,9 @@ class OpenPBRSurface(Material):
         p = self.params
         T = p["transmission_weight"] * (1.0 - p["base_metalness"])
         T_d = np.zeros(up.shape[:-1] + (3,))
-        if self._eta_s is not None and _any(T):
-            eta = mapping.specular_ior_modulation(self._eta_s, p["specular_weight"])
+        if self._eta is not None and _any(T):
             interface = DielectricReflection._new(GGX._new(*self._alphas(self._roughness)),
-                                                  _fresnel(eta))
+                                                  _fresnel(self._eta))
             E_R = interface._albedo_table(up, with_error=False)[0]
             T_d = _c(T) * p["transmission_color"] * (1.0 - E_R)
             for layer in self._layers:
@@ -302,7 +304,6 @@ class OpenPBRSurface(Material):
         n_above = 1.0 if coat_weight is None else 1.0 + coat_weight * (p["coat_ior"] - 1.0)
         return w, 1000.0 * p["thin_film_thickness"], p["thin_film_ior"] / n_above
 
-    # -- the slabs --------------------------------------------------------------------------
     def _alphas(self, r):
         return mapping.anisotropic_alphas(r, self.params["specular_roughness_anisotropy"])
 
