@@ -1,10 +1,14 @@
-"""Execution options of batched evaluation: chunk size and threads.
+"""Execution options of batched evaluation (chunk size and threads) and the accuracy of
+anisotropic dielectric energy.
 
 Public API
 ----------
 ``get_options()``                         the current ``Options``.
-``set_options(threads=..., chunk_size=...)``  change them for the whole process.
-``options(threads=..., chunk_size=...)``  context manager: change them inside a ``with`` block.
+``set_options(threads=..., chunk_size=..., anisotropic_energy=...)``  change them for the
+                                          whole process.
+``options(threads=..., chunk_size=..., anisotropic_energy=...)``  context manager: change
+                                          them inside a ``with`` block.
+``ANISOTROPIC_ENERGY``                    the values of ``anisotropic_energy``.
 
 Large batches of ``eval``, ``pdf``, ``eval_pdf`` and ``sample`` are cut into chunks of
 ``chunk_size`` elements, small enough that a chunk's temporaries stay in the CPU cache, and
@@ -14,6 +18,13 @@ so the results are bit-identical for any ``threads`` (docs/performance.md).
 
 The default number of threads is the ``ADOBE_BSDF_THREADS`` environment variable, else the
 number of CPUs this process may run on.
+
+``anisotropic_energy`` is read when a lobe is built and kept by it: "table" (default) looks
+up an anisotropic GGX dielectric's single-scattering energy in the isotropic tables at
+sqrt(alpha_x alpha_y); "exact" computes the lobe's own slice of it
+(``tables.dielectric_slices``: seconds per distinct (alpha_x, alpha_y, eta), then as fast),
+which makes the Kulla-Conty terms, a coat's albedo and the ASM's lobe integral exact for
+anisotropic roughness (docs/tables.md). Conductors are exact either way.
 """
 
 from __future__ import annotations
@@ -26,7 +37,11 @@ from dataclasses import dataclass, replace
 
 from adobe_bsdf import _params
 
-__all__ = ["Options", "get_options", "set_options", "options", "map_chunks"]
+__all__ = ["Options", "get_options", "set_options", "options", "map_chunks",
+           "ANISOTROPIC_ENERGY"]
+
+#: values of ``Options.anisotropic_energy``
+ANISOTROPIC_ENERGY = ("table", "exact")
 
 #: elements per chunk: each NumPy call of a kernel then runs long enough (tens of
 #: microseconds) that the hand-over of the interpreter lock between threads costs little, and
@@ -58,10 +73,13 @@ class Options:
         Threads evaluating chunks of one call (1: the calling thread only).
     chunk_size : int >= 1
         Elements per chunk.
+    anisotropic_energy : {"table", "exact"}
+        How lobes built now find an anisotropic dielectric's energy (module docstring).
     """
 
     threads: int
     chunk_size: int
+    anisotropic_energy: str = "table"
 
 
 _state = threading.local()
@@ -75,26 +93,33 @@ def get_options() -> Options:
     return getattr(_state, "options", None) or _global
 
 
-def _validated(base: Options, threads, chunk_size) -> Options:
+def _validated(base: Options, threads, chunk_size, anisotropic_energy=None) -> Options:
     if threads is not None:
         base = replace(base, threads=_params.integer("threads", threads, 1))
     if chunk_size is not None:
         base = replace(base, chunk_size=_params.integer("chunk_size", chunk_size, 1))
+    if anisotropic_energy is not None:
+        if anisotropic_energy not in ANISOTROPIC_ENERGY:
+            raise ValueError(f"anisotropic_energy = {anisotropic_energy!r}; allowed: "
+                             f"{', '.join(repr(v) for v in ANISOTROPIC_ENERGY)}")
+        base = replace(base, anisotropic_energy=anisotropic_energy)
     return base
 
 
-def set_options(threads: int | None = None, chunk_size: int | None = None) -> Options:
+def set_options(threads: int | None = None, chunk_size: int | None = None,
+                anisotropic_energy: str | None = None) -> Options:
     """Set the process-wide options (``None`` leaves one unchanged); returns the new ones."""
     global _global
-    _global = _validated(_global, threads, chunk_size)
+    _global = _validated(_global, threads, chunk_size, anisotropic_energy)
     return _global
 
 
 @contextlib.contextmanager
-def options(threads: int | None = None, chunk_size: int | None = None):
+def options(threads: int | None = None, chunk_size: int | None = None,
+            anisotropic_energy: str | None = None):
     """Use other options inside a ``with`` block (in this thread only)."""
     previous = getattr(_state, "options", None)
-    _state.options = _validated(get_options(), threads, chunk_size)
+    _state.options = _validated(get_options(), threads, chunk_size, anisotropic_energy)
     try:
         yield _state.options
     finally:

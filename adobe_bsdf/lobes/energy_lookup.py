@@ -15,7 +15,7 @@ import functools
 
 import numpy as np
 
-from adobe_bsdf import tables
+from adobe_bsdf import config, tables
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.tables.anisotropic_energy import (
@@ -25,13 +25,14 @@ from adobe_bsdf.tables.anisotropic_energy import (
     similarity,
 )
 from adobe_bsdf.tables.catalog import anisotropic_average
+from adobe_bsdf.tables.dielectric_slices import dielectric_slice
 from adobe_bsdf.tables.energy import ggx_energy
 from adobe_bsdf.tables.table import Table
 
 __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "conductor_average",
            "is_anisotropic", "anisotropic_coordinates", "anisotropic_reflection",
            "anisotropic_reflection_average",
-           "dielectric_energy", "sides",
+           "dielectric_energy", "sides", "exact_anisotropic", "slice_energy", "slice_average",
            "checked_ratio", "reflected_energy", "near_matched", "passes_through",
            "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU"]
 
@@ -326,6 +327,59 @@ def anisotropic_coordinates(distribution: GGX, w, blend: bool = False):
     return np.minimum(s, 1.0), cos_phi, alpha, ratio
 
 
+def exact_anisotropic(distribution: GGX) -> bool:
+    """Whether a lobe over ``distribution`` built now reads an anisotropic dielectric's
+    energy from its own slice (``config`` option ``anisotropic_energy = "exact"``, and some
+    element anisotropic)."""
+    return (config.get_options().anisotropic_energy == "exact"
+            and bool(np.any(is_anisotropic(distribution))))
+
+
+def _slices(eta, distribution: GGX, shape):
+    """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one
+    ``dielectric_slice`` per distinct (alpha, ratio, index ratio)."""
+    alpha, ratio = _alpha_ratio(distribution)
+    index = checked_ratio(eta, "ggx_dielectric_anisotropic (the slices)")
+    aniso, alpha, ratio, index = (np.broadcast_to(a, shape) for a in (
+        is_anisotropic(distribution), alpha, ratio, index))
+    rows = np.stack([alpha[aniso], ratio[aniso], index[aniso]], -1)
+    unique, inverse = np.unique(rows, axis=0, return_inverse=True)
+    where = np.argwhere(aniso)
+    for k, (a, r, e) in enumerate(unique):
+        mask = np.zeros(shape, dtype=bool)
+        mask[tuple(where[inverse.ravel() == k].T)] = True
+        yield mask, dielectric_slice(a, r, e)
+
+
+def slice_energy(eta, distribution: GGX, wo, with_error: bool = False):
+    """``(E, error)``, each ``(..., 2)`` (E_R, E_T): the anisotropic elements' slices
+    (``tables.dielectric_slices``) seen from ``wo``'s side, 0 elsewhere and in the tangent
+    plane; error None unless ``with_error``."""
+    _, cos_phi, _, _ = anisotropic_coordinates(distribution, wo)
+    mu = np.minimum(np.abs(wo[..., 2]), 1.0)
+    on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
+    shape = np.broadcast_shapes(mu.shape, np.shape(eta), distribution.param_shape)
+    E = np.zeros(shape + (2,))
+    error = np.zeros(shape + (2,)) if with_error else None
+    mu, cos_phi, on_light = (np.broadcast_to(a, shape) for a in (mu, cos_phi, on_light))
+    for mask, piece in _slices(eta, distribution, shape):
+        E[mask] = piece(on_light[mask], mu[mask], cos_phi[mask])
+        if with_error:
+            error[mask] = piece.error(on_light[mask], mu[mask], cos_phi[mask])
+    grazing = (np.broadcast_to(wo[..., 2], shape) == 0.0)[..., None]
+    return np.where(grazing, 0.0, E), None if error is None else np.where(grazing, 0.0, error)
+
+
+def slice_average(eta, distribution: GGX):
+    """``(light, dense)``: each ``(..., 2)``, the (E_R, E_T) averages of the anisotropic
+    elements' slices seen from the light and the dense side (0 elsewhere)."""
+    shape = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
+    light, dense = np.zeros(shape + (2,)), np.zeros(shape + (2,))
+    for mask, piece in _slices(eta, distribution, shape):
+        light[mask], dense[mask] = piece.average_outside, piece.average_inside
+    return light, dense
+
+
 def sides(eta):
     """(eta >= 1, index ratio dense / light)."""
     light_above = eta >= 1.0
@@ -360,17 +414,19 @@ def checked_ratio(eta, table: str | None = None, dispersion=None):
                      f"{eta[index]:.6g} is {where}: lower ior or dispersion; {_INSTEAD}")
 
 
-def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
+def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
+                      exact: bool = False):
     """``(E, error)``: E_R + E_T of a rough interface seen from ``wo`` (either side), 1 where
     the interface is smooth or index-matched, and the carried node error (None unless
     ``with_error``). Each side's table is looked up only for the directions on that side
-    (where the parameters are scalars); ``near_matched`` directions are integrated."""
+    (where the parameters are scalars); ``near_matched`` directions are integrated.
+    ``exact``: anisotropic elements read their slices (``slice_energy``) instead."""
     names = "ggx_dielectric_outside and ggx_dielectric_inside"
     alpha = table_alpha(distribution, names)
     ratio = checked_ratio(eta, names)
     mu = np.abs(wo[..., 2])
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
-    exact = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
+    matched = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
     shape = np.broadcast_shapes(mu.shape, alpha.shape, ratio.shape)
     total = np.zeros(shape)
     error = np.zeros(shape) if with_error else None
@@ -396,10 +452,15 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False):
         total[near] = E_R + E_T
         if with_error:
             error[near] = err_R + err_T
+    if exact:
+        aniso = np.broadcast_to(is_anisotropic(distribution), shape)
+        E_s, error_s = slice_energy(eta, distribution, wo, with_error)
+        total = np.where(aniso, E_s.sum(-1), total)
+        error = None if error is None else np.where(aniso, error_s.sum(-1), error)
     # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
     grazing = wo[..., 2] == 0.0
-    total = np.where(exact, 1.0, np.where(grazing, 0.0, total))
-    return total, None if error is None else np.where(exact | grazing, 0.0, error)
+    total = np.where(matched, 1.0, np.where(grazing, 0.0, total))
+    return total, None if error is None else np.where(matched | grazing, 0.0, error)
 
 
 def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,

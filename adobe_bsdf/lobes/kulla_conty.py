@@ -15,7 +15,11 @@ The conductor term reads E(wo) from "ggx_conductor" where isotropic and from
 the hemispherical average (1 / pi) int E(w) cos d w of the same interpolant, the term
 restores exactly 1 - E(wo) for anisotropic roughness too, and stays separable and reciprocal.
 The dielectric terms' tables are isotropic: an anisotropic pair of alphas is looked up at
-alpha = sqrt(alpha_x alpha_y) (an approximation, its white furnace in ``docs/tables.md``).
+alpha = sqrt(alpha_x alpha_y) (an approximation, its white furnace in ``docs/tables.md``),
+unless the lobe is built under ``config.options(anisotropic_energy="exact")``: then each
+anisotropic element reads E(mu, phi) and its averages from its own slice
+(``tables.dielectric_slices``), and the terms restore 1 - E(wo) exactly up to the slice's
+interpolation error, with the same reciprocity.
 Averages are exact averages of the interpolated E, so a white furnace measures the tables'
 interpolation error (``docs/tables.md``).
 
@@ -37,8 +41,11 @@ from adobe_bsdf.lobes.energy_lookup import (
     conductor_average,
     conductor_energy,
     dielectric_energy,
+    exact_anisotropic,
     grey,
+    is_anisotropic,
     sides,
+    slice_average,
     table_alpha,
 )
 from adobe_bsdf.lobes.reflection import Conductor, _fresnel_model
@@ -167,6 +174,12 @@ class DielectricMultipleScattering(Separable):
         self._light_above = sides(self.eta)[0]
         avg_L = tables.get("ggx_dielectric_outside_avg")(alpha, ratio)
         avg_D = tables.get("ggx_dielectric_inside_avg")(alpha, ratio)
+        #: whether anisotropic elements read their slices (``config`` anisotropic_energy)
+        self.exact = exact_anisotropic(self.distribution)
+        if self.exact:
+            aniso = is_anisotropic(self.distribution)[..., None]
+            slice_L, slice_D = slice_average(self.eta, self.distribution)
+            avg_L, avg_D = np.where(aniso, slice_L, avg_L), np.where(aniso, slice_D, avg_D)
         E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
         # the split is a free choice in [0, 1] (clipped against interpolation overshoot of a
         # near-zero E_R near eta = 1; conservation and reciprocity hold for any value)
@@ -201,7 +214,8 @@ class DielectricMultipleScattering(Separable):
 
     def _X(self, w):
         """1 - E_s(mu) on the side of ``w`` (clamped at 0 against interpolation overshoot)."""
-        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w)[0], 0.0)
+        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w,
+                                                  exact=self.exact)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         o_light, i_light = self._on_light(wo), self._on_light(wi)
@@ -220,7 +234,7 @@ class DielectricMultipleScattering(Separable):
 
     def _albedo_table(self, wo, with_error=True):
         """1 - E_s(mu_o): what this term adds, exactly, for the tabulated E."""
-        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error)
+        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error, self.exact)
         active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
         return grey(np.where(active, np.maximum(1.0 - E, 0.0), 0.0)), grey(error)
 

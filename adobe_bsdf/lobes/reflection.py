@@ -11,9 +11,12 @@ from adobe_bsdf.fresnel import ExactDielectric, Fresnel, FresnelFunction
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
     conductor_energy,
+    exact_anisotropic,
     grey,
+    is_anisotropic,
     reflected_energy,
     sides,
+    slice_energy,
     table_alpha,
 )
 from adobe_bsdf.microfacet import distribution, saturated
@@ -271,7 +274,9 @@ class DielectricReflection(MicrofacetReflection):
     """The reflection of a rough dielectric interface alone: GGX microfacet reflection with
     the exact dielectric Fresnel of relative index ``eta`` [Walter2007, eq. 20], no
     refraction. Its albedo table is E_R of the dielectric tables (seen from the light side
-    for eta >= 1, from the dense side for eta < 1) at sqrt(alpha_x alpha_y).
+    for eta >= 1, from the dense side for eta < 1) at sqrt(alpha_x alpha_y); where
+    anisotropic and built under ``config.options(anisotropic_energy="exact")``, E_R of its
+    own slice (``tables.dielectric_slices``).
 
     Parameters
     ----------
@@ -286,6 +291,8 @@ class DielectricReflection(MicrofacetReflection):
     def _init(self, microfacets, fresnel: ExactDielectric):
         super()._init(microfacets, fresnel)
         self.eta = fresnel.eta
+        #: E_R from the lobe's slice where anisotropic (``config`` anisotropic_energy)
+        self.exact = exact_anisotropic(self.distribution)
 
     def __repr__(self) -> str:
         return f"DielectricReflection(eta={self.eta!r}, {self.distribution!r})"
@@ -294,9 +301,9 @@ class DielectricReflection(MicrofacetReflection):
         """The table where isotropic; where anisotropic, the table at sqrt(alpha_x alpha_y)
         misses the true albedo by up to ~0.04 at grazing angles (either way), so a layer
         under it would gain energy: there E is ``quadrature.sampled_albedo`` (32 x 32
-        visible normals per distinct ``wo``)."""
+        visible normals per distinct ``wo``), or, built exact, the slice's."""
         d = self.distribution
-        if np.all((d.alpha_x == d.alpha_y) | d.smooth):
+        if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.exact:
             return super()._top_albedo(wo)
         return quadrature.sampled_albedo(self, wo)
 
@@ -313,6 +320,12 @@ class DielectricReflection(MicrofacetReflection):
         up = wo[..., 2] > 0.0
         E = grey(np.where(up, E, 0.0))
         error = grey(None if error is None else np.where(up, error, 0.0))
+        if self.exact:
+            E_s, error_s = slice_energy(self.eta, self.distribution, wo, with_error)
+            aniso = is_anisotropic(self.distribution)[..., None]
+            E = np.where(aniso, grey(np.where(up, E_s[..., 0], 0.0)), E)
+            if with_error:
+                error = np.where(aniso, grey(np.where(up, error_s[..., 0], 0.0)), error)
         smooth = self.distribution.smooth
         if np.any(smooth):  # the exact Fresnel, not its interpolation in eta
             smooth = smooth[..., None]

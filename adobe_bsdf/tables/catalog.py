@@ -156,7 +156,9 @@ def anisotropic_average(parent: Table, alpha, ratio, order: int = _AVERAGE_ORDER
     in mu on every cell of the cosine coordinate (mapped to mu at that phi: the coordinate is
     smooth in mu there, mu steep in it). The cosine coordinate depends on (alpha, ratio), so
     between nodes the average of the interpolant is not the interpolated average (a
-    Kulla-Conty term's normalisation must match its E: ``docs/energy_models.md``). Returns
+    Kulla-Conty term's normalisation must match its E: ``docs/energy_models.md``). A table
+    over the first two axes alone (a slice at one (alpha, ratio),
+    ``tables.dielectric_slices``) is averaged at the (alpha, ratio) it was taken at. Returns
     ``(values, errors)``, ``(n, n_outputs)``; ``order`` Gauss points per cell and
     dimension."""
     axis, c_axis = parent.spec.axes[:2]
@@ -177,7 +179,7 @@ def anisotropic_average(parent: Table, alpha, ratio, order: int = _AVERAGE_ORDER
         mu = lo + width * x[None, :, None]  # (S - 1, order, P)
         weight = (2.0 * mu * width * w[None, :, None] * w_phi).ravel()
         coords = [c.ravel() for c in np.broadcast_arrays(
-            np.minimum(to_coordinate(mu, a_phi), 1.0), c_q, a, r)]
+            np.minimum(to_coordinate(mu, a_phi), 1.0), c_q, a, r)][:len(parent.spec.axes)]
         values[k] = weight @ parent(*coords)
         errors[k] = weight @ parent.error(*coords)
     return values, errors

@@ -32,6 +32,7 @@ The error estimate is the difference to the same rule at two thirds of the order
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import numpy as np
@@ -58,15 +59,19 @@ class Energy(NamedTuple):
     error_transmission: np.ndarray
 
 
+@functools.lru_cache(maxsize=32)
 def _rule(order: int):
-    """Gauss–Legendre nodes and weights on [0, 1] after the sigmoidal map."""
+    """Gauss–Legendre nodes and weights on [0, 1] after the sigmoidal map (cached: the
+    roots cost more than a node's integrand; read-only)."""
     t, w = roots_legendre(order)
     t, w = 0.5 * (t + 1.0), 0.5 * w
     p = SIGMOID_P
     a, b = t**p, (1.0 - t) ** p
     x = a / (a + b)
     dx = p * (t * (1.0 - t)) ** (p - 1.0) / (a + b) ** 2
-    return x, w * dx
+    weights = w * dx
+    x.flags.writeable = weights.flags.writeable = False
+    return x, weights
 
 
 def _g(mu_o, s_o, alpha, wz):

@@ -12,9 +12,12 @@ from adobe_bsdf.fresnel import ExactDielectric
 from adobe_bsdf.lobes.energy_lookup import (
     anisotropic_reflection,
     anisotropic_reflection_average,
+    exact_anisotropic,
     grey,
     is_anisotropic,
     reflected_energy,
+    slice_average,
+    slice_energy,
 )
 from adobe_bsdf.lobes.reflection import MicrofacetReflection
 from adobe_bsdf.lobes.separable import Separable
@@ -39,17 +42,22 @@ def _anisotropic(microfacets):
     return is_anisotropic(microfacets)
 
 
-def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None):
+def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, exact=False):
     """``(L, error)``: L(w) of [Kutz2021, §1.1 eq. 1] (0 below the surface) and its node error
     (None unless ``with_error``): "asm_diffuse_L" at ``roughness``, plus, where the
     ``microfacets`` are anisotropic, what they reflect beyond the isotropic lobe at
-    alpha = roughness^2 (``anisotropic_reflection``, the Fresnel moments)."""
+    alpha = roughness^2 (``anisotropic_reflection``, the Fresnel moments), or, ``exact``,
+    E_R of their own slice (``slice_energy``)."""
     up = w[..., 2] > 0.0
     L, error = reflected_energy("asm_diffuse_L", np.maximum(w[..., 2], 0.0),
                                 roughness * roughness, ior, {"roughness": roughness, "ior": ior},
                                 ior, with_error)
     aniso = _anisotropic(microfacets)
-    if np.any(aniso):
+    if exact:
+        E, error_s = slice_energy(ior, microfacets, w, with_error)
+        L = np.where(aniso, E[..., 0], L)
+        error = np.where(aniso, error_s[..., 0], error) if with_error else None
+    elif np.any(aniso):
         dL, error_d = anisotropic_reflection(microfacets, _reference(roughness), ior, w,
                                              with_error)
         L = np.where(aniso, np.clip(L + dL, 0.0, 1.0), L)
@@ -62,11 +70,14 @@ def _reference(roughness):
     return GGX._new(roughness * roughness, roughness * roughness)
 
 
-def _lobe_average(roughness, ior, microfacets):
-    """T = (1/pi) int L cos: "asm_diffuse_T", plus the anisotropic part's exact average."""
+def _lobe_average(roughness, ior, microfacets, exact=False):
+    """T = (1/pi) int L cos: "asm_diffuse_T", plus the anisotropic part's exact average (or,
+    ``exact``, the slice's average of E_R)."""
     T = tables.get("asm_diffuse_T")(roughness, ior)[..., 0]
     aniso = _anisotropic(microfacets)
-    if np.any(aniso):
+    if exact:
+        T = np.where(aniso, slice_average(ior, microfacets)[0][..., 0], T)
+    elif np.any(aniso):
         T = np.where(aniso, T + anisotropic_reflection_average(
             microfacets, _reference(roughness), ior), T)
     return T
@@ -95,13 +106,16 @@ class ASMSpecular(MicrofacetReflection):
         self.roughness, self.ior, self.anisotropy_level = roughness, ior, anisotropy_level
         super()._init(GGX._new(*alphas(roughness, anisotropy_level)), ExactDielectric._new(ior))
         self._table_r = effective_roughness(roughness, anisotropy_level)
+        #: L from the lobe's slice where anisotropic (``config`` anisotropic_energy)
+        self.exact = exact_anisotropic(self.distribution)
 
     def __repr__(self) -> str:
         return (f"ASMSpecular(roughness={self.roughness}, ior={self.ior}, "
                 f"anisotropy_level={self.anisotropy_level})")
 
     def _albedo_table(self, wo, with_error=True):
-        L, error = _lobe_integral(self._table_r, self.ior, wo, with_error, self.distribution)
+        L, error = _lobe_integral(self._table_r, self.ior, wo, with_error, self.distribution,
+                                  self.exact)
         return grey(L), grey(error)
 
 
@@ -142,7 +156,9 @@ class ASMDiffuse(Separable):
             reflectance, roughness, ior, a)
         self._table_r = effective_roughness(roughness, a)
         self.microfacets = GGX._new(*alphas(roughness, a)) if np.any(a > 0.0) else None
-        T = _lobe_average(self._table_r, self.ior, self.microfacets)
+        #: L from the specular's slice where anisotropic (``config`` anisotropic_energy)
+        self.exact = self.microfacets is not None and exact_anisotropic(self.microfacets)
+        T = _lobe_average(self._table_r, self.ior, self.microfacets, self.exact)
         self._scale = self.reflectance / (np.pi * (1.0 - T))[..., None]
 
     def __repr__(self) -> str:
@@ -154,7 +170,8 @@ class ASMDiffuse(Separable):
                                    self.anisotropy_level.shape, self.reflectance.shape[:-1])
 
     def _L(self, w, with_error=False):
-        return _lobe_integral(self._table_r, self.ior, w, with_error, self.microfacets)
+        return _lobe_integral(self._table_r, self.ior, w, with_error, self.microfacets,
+                              self.exact)
 
     def _X(self, w):
         """1 - L(w), at least 0: the interpolated L can overshoot 1 by ~1e-8 at small
