@@ -12,6 +12,7 @@ from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import (
     MIN_TRANSMISSION_WIDTH,
     dielectric_energy,
+    exact_anisotropic,
     grey,
     passes_through,
 )
@@ -99,6 +100,8 @@ class Dielectric(Lobe):
         self.distribution = microfacets
         #: where the interface is a pass-through (``passes_through``)
         self.passes = passes_through(self.eta, microfacets)
+        #: table albedo from the lobe's slice where anisotropic (``config`` anisotropic_energy)
+        self.exact = exact_anisotropic(microfacets)
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}.over({self.eta!r}, {self.distribution!r})"
@@ -240,9 +243,11 @@ class Dielectric(Lobe):
         return interface_energy_scale(self.eta, wo, wi)
 
     def _albedo_table(self, wo, with_error=True):
-        """E_R + E_T of the tables of ``adobe_bsdf.tables`` at alpha = sqrt(alpha_x alpha_y)
-        (1 where the interface is smooth or index-matched)."""
-        return tuple(map(grey, dielectric_energy(self.eta, self.distribution, wo, with_error)))
+        """E_R + E_T of the tables of ``adobe_bsdf.tables`` at alpha = sqrt(alpha_x alpha_y),
+        or of the lobe's slice where anisotropic and built exact (1 where the interface is
+        smooth or index-matched)."""
+        return tuple(map(grey, dielectric_energy(self.eta, self.distribution, wo, with_error,
+                                                 self.exact)))
 
     # -- sampling -------------------------------------------------------------------------
     def _sample(self, wo, u):

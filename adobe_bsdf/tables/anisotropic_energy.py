@@ -75,6 +75,8 @@ T_GRID = 65
 STEPS_PSI, STEPS_T = 24, 20
 #: nodes processed at once (memory ~ CHUNK x 40 MB at order 16)
 CHUNK = 2
+#: the same for the dielectric's coarser grids (~ DIELECTRIC_CHUNK x 10 MB at order 8)
+DIELECTRIC_CHUNK = 4
 
 
 def projected_alpha(cos_phi, alpha, ratio):
@@ -186,9 +188,10 @@ class _DielectricNode(_Node):
         self._p["eta"] = eta
         self._p["c_crit"] = np.sqrt(np.maximum(1.0 - eta * eta, 0.0))
 
-    def _refraction(self, t, psi):
-        """(wo'.m', wo.m, mu_i, S_i, mu_t, S_t, mu_o, S_o, q) at m'(t, psi); mu_t = -wt_z
-        (positive where wt leaves below), continuous through total internal reflection."""
+    def _refraction(self, t, psi, lengths=True):
+        """(wo'.m', wo.m, mu_i, S_i, mu_t, S_t, q) at m'(t, psi), q the node parameters;
+        mu_t = -wt_z (positive where wt leaves below), continuous through total internal
+        reflection; S_i, S_t None unless ``lengths``."""
         q = self._params(max(np.ndim(t), np.ndim(psi)))
         st, ct = np.sin(t), np.cos(t)
         mx, my = st * np.cos(psi), st * np.sin(psi)
@@ -197,19 +200,22 @@ class _DielectricNode(_Node):
         N = nx * nx + ny * ny + ct * ct
         root = np.sqrt(N)
         k = 2.0 * q["S_o"] * c1 / N  # wi = k n - wo
-        ix, iy, iz = k * nx - q["wx"], k * ny - q["wy"], k * ct - q["mu"]
-        S_i = np.sqrt(iz * iz + (q["ax"] * ix) ** 2 + (q["ay"] * iy) ** 2)
+        iz = k * ct - q["mu"]
         c = q["S_o"] * c1 / root  # wo.m
         eta = q["eta"]
         cos_t = np.sqrt(np.maximum(1.0 - (1.0 - c * c) / (eta * eta), 0.0))
         b = (c / eta - cos_t) / root  # wt = -wo / eta + b n
-        tx, ty = b * nx - q["wx"] / eta, b * ny - q["wy"] / eta
         mu_t = q["mu"] / eta - b * ct
+        if not lengths:
+            return c1, c, iz, None, mu_t, None, q
+        ix, iy = k * nx - q["wx"], k * ny - q["wy"]
+        S_i = np.sqrt(iz * iz + (q["ax"] * ix) ** 2 + (q["ay"] * iy) ** 2)
+        tx, ty = b * nx - q["wx"] / eta, b * ny - q["wy"] / eta
         S_t = np.sqrt(mu_t * mu_t + (q["ax"] * tx) ** 2 + (q["ay"] * ty) ** 2)
         return c1, c, iz, S_i, mu_t, S_t, q
 
     def conditions(self, t, psi):
-        c1, c, iz, _, mu_t, _, q = self._refraction(t, psi)
+        c1, c, iz, _, mu_t, _, q = self._refraction(t, psi, lengths=False)
         mu = q["mu"]
         rows = [c1] + [iz - (k - 1.0) * mu for k in LAYER] + [mu_t - (k - 1.0) * mu
                                                                for k in LAYER]
@@ -396,8 +402,8 @@ def ggx_anisotropic_dielectric_energy(mu, phi, alpha_x, alpha_y, eta, order: int
     flat = [a.ravel() for a in arrays]
     value, error = np.zeros((flat[0].size, 2)), np.zeros((flat[0].size, 2))
     low = max(2, (2 * order) // 3)
-    for start in range(0, len(value), CHUNK):
-        part = [a[start:start + CHUNK] for a in flat]
+    for start in range(0, len(value), DIELECTRIC_CHUNK):
+        part = [a[start:start + DIELECTRIC_CHUNK] for a in flat]
         n = len(part[0])
         node = _DielectricNode(*part)
         hi = _integrate(node, n, order, 0)

@@ -23,12 +23,13 @@ Coordinates. In |cos phi| (from the axis of alpha_max) the nodes are those of
 dense side, the blended coordinate v (``anisotropic_energy.blended``: the grazing boundary
 layer and mu itself). Seen from the dense side, total internal reflection sets in at the
 critical cosine mu_c = sqrt(1 - 1 / eta^2), where the energy of a smooth interface has a
-kink and a rough one a transition as narrow as the roughness: the slice is two tables, below
-mu_c (in 1 - v / v_c, nodes crowded towards mu_c) and above it (in (mu - mu_c) / (1 - mu_c),
-likewise), so that no stencil straddles it. The dense side stays the less accurate: at
-grazing angles a nearly one-dimensional surface (ratio -> 0) has a second such kink along
-|cos phi| = sqrt((mu_c^2 - mu^2) / (1 - mu^2)), which the tensor grid does not follow
-(docs/tables.md).
+kink and a rough one a transition as narrow as the roughness; and below mu_c a nearly
+one-dimensional surface (ratio -> 0) has a second one where its steepest facets, tilted
+along the rough axis, leave total internal reflection: wo's component in the plane of that
+axis and the normal reaches mu_c, |cos phi| = k(mu) = sqrt((mu_c^2 - mu^2) / (1 - mu^2)).
+That side is therefore five tables (``_Part``): grazing and below mu_c, each on either side
+of k(mu), and above mu_c, their nodes crowded towards grazing, mu_c and k(mu), so that no
+interpolation stencil straddles a kink.
 """
 
 from __future__ import annotations
@@ -54,80 +55,169 @@ __all__ = ["DielectricSlice", "dielectric_slice", "SLICE_ORDER", "SLICE_NODES",
 #: Gauss–Legendre order of the slice's nodes
 SLICE_ORDER = 8
 #: the node integrator's error at ``SLICE_ORDER``: the largest difference to order 20 over
-#: 200 random nodes (mu >= 0.005, alpha in [0.003, 1.5], ratio, eta in [1/3, 3]), measured
-#: by ``benchmarks.tables_report`` and carried as every node's error estimate
+#: random nodes (mu >= 0.005, alpha in [0.003, 1.5], ratio, eta in [1/3, 3]), measured by
+#: ``benchmarks.tables_report`` and carried as every node's error estimate
 SLICE_NODE_ERROR = 2e-4
-#: nodes: (mu coordinate, |cos phi|) of the light side's table and of the dense side's two
-SLICE_NODES = {"outside": (24, 14), "below": (16, 14), "above": (12, 14)}
-#: slices kept in memory (each ~30 KB)
+#: nodes (mu coordinate, azimuth coordinate) of each part (``_Part``)
+SLICE_NODES = {"outside": (24, 16), "grazing-near": (12, 12), "grazing-far": (12, 12),
+               "below-near": (10, 12), "below-far": (10, 12), "above": (12, 14)}
+#: slices kept in memory (each ~40 KB)
 CACHED_SLICES = 256
 #: Gauss points per cell and dimension of the averages
 _AVERAGE_ORDER = 8
+#: fixed-point steps from a part's coordinates to (mu, phi) (contracting: mu depends on phi
+#: only through the projected roughness of the blended coordinate)
+_STEPS = 60
 
 
-def _cos_phi_axis(n: int) -> Axis:
-    return Axis("cos_phi", 0.0, 1.0, n, "log-linear", "cubic", log_scale=0.05)
+#: smallest relative node spacing of ``_two_sided``
+_EDGE = 0.01
+_Y0 = float(np.log(_EDGE / (1.0 + _EDGE)))
+
+
+def _two_sided(t):
+    """u in [0, 1] of t in [0, 1] whose uniform nodes crowd geometrically towards both ends
+    of t: u = (ln((t + e) / (1 - t + e)) - Y0) / (-2 Y0), e = ``_EDGE``."""
+    return (np.log((t + _EDGE) / (1.0 - t + _EDGE)) - _Y0) / (-2.0 * _Y0)
+
+
+def _two_sided_inverse(u):
+    """t of ``_two_sided``."""
+    q = np.exp(_Y0 * (1.0 - 2.0 * np.asarray(u, dtype=np.float64)))
+    return np.clip((q * (1.0 + _EDGE) - _EDGE) / (1.0 + q), 0.0, 1.0)
+
+
+def _kink(mu, mu_c):
+    """k(mu) = sqrt((mu_c^2 - mu^2) / (1 - mu^2)), 0 from mu_c up."""
+    return np.sqrt(np.maximum(mu_c * mu_c - mu * mu, 0.0) / np.maximum(1.0 - mu * mu, 1e-300))
 
 
 @dataclass(frozen=True)
 class _Part:
-    """One table of a slice over (x, |cos phi|): x the mu coordinate of ``kind``
-    ("outside": v; "below": 1 - v / v_c; "above": (mu - mu_c) / (1 - mu_c)), its nodes
-    log-spaced towards x = 0 (grazing; mu_c from either side)."""
+    """One table of a slice over (x, u), both in [0, 1], nodes log-spaced towards 0 or (the
+    ``_two_sided`` coordinates) uniform.
+
+    x, the cosine coordinate: "outside": v (``blended``); on the dense side, with v_c the v
+    of mu_c: "grazing-*": ``_two_sided``(2 v / v_c), "below-*": ``_two_sided``(2 - 2 v / v_c),
+    "above": (mu - mu_c) / (1 - mu_c). u, the azimuth coordinate (c = |cos phi|): "*-near": ``_two_sided``(c / k(mu))
+    (crowded towards the smooth axis and the kink), "*-far": (c - k) / (1 - k), else c
+    itself.
+    """
 
     kind: str
     mu_c: float
-    table: Table
+    alpha: float
+    ratio: float
+    table: Table | None = None
 
-    def to_x(self, mu, a_phi):
-        if self.kind == "outside":
-            return np.minimum(blended(mu, a_phi), 1.0)
-        if self.kind == "below":
-            return np.clip(1.0 - blended(mu, a_phi) / blended(self.mu_c, a_phi), 0.0, 1.0)
-        return np.clip((mu - self.mu_c) / (1.0 - self.mu_c), 0.0, 1.0)
+    def _a_phi(self, c):
+        return projected_alpha(c, max(self.alpha, ALPHA_FLOOR), self.ratio)
 
-    def to_mu(self, x, a_phi):
+    def coordinates(self, mu, c):
+        """(x, u) of directions (mu, |cos phi| = c) of this part."""
+        a_phi = self._a_phi(c)
         if self.kind == "outside":
-            return unblended(x, a_phi)
-        if self.kind == "below":
-            return np.minimum(unblended((1.0 - x) * blended(self.mu_c, a_phi), a_phi),
-                              self.mu_c)
-        return self.mu_c + x * (1.0 - self.mu_c)
+            x = np.minimum(blended(mu, a_phi), 1.0)
+        elif self.kind == "above":
+            x = np.clip((mu - self.mu_c) / (1.0 - self.mu_c), 0.0, 1.0)
+        else:
+            t = 2.0 * blended(mu, a_phi) / blended(self.mu_c, a_phi)
+            x = _two_sided(np.clip(t if self.kind.startswith("grazing") else 2.0 - t, 0.0, 1.0))
+        k = _kink(mu, self.mu_c)
+        if self.kind.endswith("near"):
+            u = _two_sided(np.clip(np.where(k > 0.0, c / np.where(k > 0.0, k, 1.0), 1.0),
+                                   0.0, 1.0))
+        elif self.kind.endswith("far"):
+            u = (c - k) / (1.0 - k)
+        else:
+            u = c
+        return x, np.clip(u, 0.0, 1.0)
+
+    def directions(self, x, u):
+        """(mu, |cos phi|) of the coordinates (x, u), by fixed-point steps where they depend
+        on each other."""
+        c = np.asarray(u, dtype=np.float64)
+        for _ in range(_STEPS if "-" in self.kind else 1):
+            a_phi = self._a_phi(c)
+            if self.kind == "outside":
+                mu = unblended(x, a_phi)
+            elif self.kind == "above":
+                mu = self.mu_c + x * (1.0 - self.mu_c)
+            else:
+                t = _two_sided_inverse(x)
+                t = t if self.kind.startswith("grazing") else 2.0 - t
+                mu = np.minimum(unblended(0.5 * t * blended(self.mu_c, a_phi), a_phi),
+                                self.mu_c)
+            k = _kink(mu, self.mu_c)
+            if self.kind.endswith("near"):
+                c = _two_sided_inverse(u) * k
+            elif self.kind.endswith("far"):
+                c = k + u * (1.0 - k)
+        return mu, c
+
+    def covers(self, mu, c):
+        """Where a direction (mu, |cos phi| = c) of the dense side belongs to this part."""
+        if self.kind == "above":
+            return mu >= self.mu_c
+        a_phi = self._a_phi(c)
+        t = 2.0 * blended(mu, a_phi) / blended(self.mu_c, a_phi)
+        here = (mu < self.mu_c) & ((t < 1.0) if self.kind.startswith("grazing") else (t >= 1.0))
+        near = c <= _kink(mu, self.mu_c)
+        return here & (near if self.kind.endswith("near") else ~near)
+
+
+def _axis(name: str, n: int, log_scale: float) -> Axis:
+    return Axis(name, 0.0, 1.0, n, "log-linear", "cubic", log_scale=log_scale)
 
 
 def _part(kind: str, alpha: float, ratio: float, eta_seen: float, mu_c: float) -> _Part:
-    n_x, n_phi = SLICE_NODES[kind]
-    axes = (Axis("x", 0.0, 1.0, n_x, "log-linear", "cubic"), _cos_phi_axis(n_phi))
+    n_x, n_u = SLICE_NODES[kind]
+    # |cos phi| crowds towards the smooth axis as in "ggx_conductor_anisotropic", u of the
+    # far parts towards k(mu)
+    u_axis = (Axis("u", 0.0, 1.0, n_u, "linear", "cubic") if kind.endswith("near")
+              else _axis("u", n_u, 0.1))
+    x_axis = (_axis("x", n_x, 0.1) if kind in ("outside", "above")
+              else Axis("x", 0.0, 1.0, n_x, "linear", "cubic"))
+    axes = (x_axis, u_axis)
     spec = TableSpec(f"ggx_dielectric_anisotropic[{kind}, alpha={alpha:g}, ratio={ratio:g}, "
                      f"eta={eta_seen:g}]", axes, ("E_R", "E_T"), None,
                      "anisotropic_energy.ggx_anisotropic_dielectric_energy", SLICE_ORDER)
-    x, cos_phi = spec.grid()
+    part = _Part(kind, mu_c, alpha, ratio)
+    mu, c = part.directions(*spec.grid())
     a = max(alpha, ALPHA_FLOOR)
-    empty = _Part(kind, mu_c, None)
-    mu = empty.to_mu(x, projected_alpha(cos_phi, a, ratio))
-    e = ggx_anisotropic_dielectric_energy(mu, np.arccos(cos_phi), a, ratio * a, eta_seen,
-                                          SLICE_ORDER, estimate=False)
+    e = ggx_anisotropic_dielectric_energy(mu, np.arccos(np.clip(c, 0.0, 1.0)), a, ratio * a,
+                                          eta_seen, SLICE_ORDER, estimate=False)
     values = np.stack([e.reflection, e.transmission], -1).reshape(spec.shape)
-    return _Part(kind, mu_c, Table(spec, values, np.full(spec.shape, SLICE_NODE_ERROR)))
+    table = Table(spec, values, np.full(spec.shape, SLICE_NODE_ERROR))
+    return _Part(kind, mu_c, alpha, ratio, table)
 
 
-def _average(part: _Part, alpha: float, ratio: float) -> np.ndarray:
+def _average(part: _Part) -> np.ndarray:
     """(1 / pi) int E cos dw over the directions of ``part``, ``(2,)``: Gauss–Legendre on
-    every cell of its interpolant (exact for it to ~1e-9)."""
-    x_axis, c_axis = part.table.spec.axes
-    x, w = roots_legendre(_AVERAGE_ORDER)
-    x, w = 0.5 * (x + 1.0), 0.5 * w
-    phi_edges = np.arccos(c_axis.nodes())[::-1]
-    phi = (phi_edges[:-1, None] + np.diff(phi_edges)[:, None] * x).ravel()
-    w_phi = (np.diff(phi_edges)[:, None] * w).ravel() * (2.0 / np.pi)
-    c = np.cos(phi)
-    a_phi = projected_alpha(c, max(alpha, ALPHA_FLOOR), ratio)  # (P,)
-    mu_edges = part.to_mu(x_axis.nodes()[:, None], a_phi)  # (S, P)
-    lo, width = mu_edges[:-1, None, :], np.diff(mu_edges, axis=0)[:, None, :]
-    mu = lo + width * x[None, :, None]
-    weight = (2.0 * mu * width * w[None, :, None] * w_phi).ravel()
-    coords = np.broadcast_arrays(part.to_x(mu, a_phi), c)
-    return np.abs(weight) @ part.table(*(k.ravel() for k in coords))
+    every cell of its interpolant in (x, w = arccos u), the Jacobian of (x, w) -> (mu, phi)
+    by central differences (both smooth within a part)."""
+    x_axis, u_axis = part.table.spec.axes
+    g, w = roots_legendre(_AVERAGE_ORDER)
+    g, w = 0.5 * (g + 1.0), 0.5 * w
+    x_edges = x_axis.nodes()
+    w_edges = np.arccos(u_axis.nodes())[::-1]  # increasing
+    X = (x_edges[:-1, None] + np.diff(x_edges)[:, None] * g).ravel()
+    W = (w_edges[:-1, None] + np.diff(w_edges)[:, None] * g).ravel()
+    weight = np.outer((np.diff(x_edges)[:, None] * w).ravel(),
+                      (np.diff(w_edges)[:, None] * w).ravel())
+    X, W = np.meshgrid(X, W, indexing="ij")
+    h = 1e-6
+
+    def angles(x, w):
+        mu, c = part.directions(np.clip(x, 0.0, 1.0), np.cos(np.clip(w, 0.0, np.pi / 2)))
+        return mu, np.arccos(np.clip(c, 0.0, 1.0))
+
+    (m1, p1), (m0, p0) = angles(X + h, W), angles(X - h, W)
+    (n1, q1), (n0, q0) = angles(X, W + h), angles(X, W - h)
+    jacobian = np.abs((m1 - m0) * (q1 - q0) - (p1 - p0) * (n1 - n0)) / (4.0 * h * h)
+    mu, _ = angles(X, W)
+    E = part.table(X, np.cos(W))
+    return (4.0 / np.pi) * np.einsum("ij,ij,ij,ijk->k", weight, mu, jacobian, E)
 
 
 @dataclass(frozen=True)
@@ -159,12 +249,10 @@ class DielectricSlice:
     def _lookup(self, on_light, mu, cos_phi, error):
         on_light, mu, cos_phi = np.broadcast_arrays(on_light, mu, cos_phi)
         out = np.zeros(mu.shape + (2,))
-        a_phi = projected_alpha(cos_phi, max(self.alpha, ALPHA_FLOOR), self.ratio)
-        outside, below, above = self.parts
-        masks = (on_light, ~on_light & (mu < below.mu_c), ~on_light & (mu >= below.mu_c))
-        for part, mask in zip(self.parts, masks, strict=True):
+        for part in self.parts:
+            mask = on_light if part.kind == "outside" else ~on_light & part.covers(mu, cos_phi)
             if np.any(mask):
-                coords = (part.to_x(mu[mask], a_phi[mask]), cos_phi[mask])
+                coords = part.coordinates(mu[mask], cos_phi[mask])
                 out[mask] = part.table.error(*coords) if error else part.table(*coords)
         return out
 
@@ -176,7 +264,7 @@ def dielectric_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice:
     alpha, ratio, eta = float(alpha), float(ratio), float(eta)
     mu_c = float(np.sqrt(1.0 - 1.0 / (eta * eta)))
     parts = (_part("outside", alpha, ratio, eta, mu_c),
-             _part("below", alpha, ratio, 1.0 / eta, mu_c),
-             _part("above", alpha, ratio, 1.0 / eta, mu_c))
-    inside = _average(parts[1], alpha, ratio) + _average(parts[2], alpha, ratio)
-    return DielectricSlice(alpha, ratio, eta, parts, _average(parts[0], alpha, ratio), inside)
+             *(_part(kind, alpha, ratio, 1.0 / eta, mu_c) for kind in SLICE_NODES
+               if kind != "outside"))
+    inside = sum(_average(part) for part in parts[1:])
+    return DielectricSlice(alpha, ratio, eta, parts, _average(parts[0]), inside)
