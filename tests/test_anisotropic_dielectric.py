@@ -25,10 +25,13 @@ from tests.sampling_checks import assert_sampling_matches
 
 #: the acceptance of the white furnace (seen from the light side): 1 +- FURNACE
 FURNACE = 2e-3
-#: measured (docs/tables.md): the dense side's worst |E - 1| at the ASM alphas of roughness
-#: >= 0.2, anisotropy <= 0.8 (its kink along |cos phi| at grazing angles grows as the surface
-#: becomes one-dimensional: docs/tables.md gives the whole grid)
-DENSE_MODERATE = 1e-2
+#: measured (docs/tables.md): the slices' interpolation error of E_R + E_T seen from the
+#: dense side at random directions, index ratio >= 1.1, alpha_min / alpha_max >= 0.01
+DENSE = 5e-3
+#: measured (docs/tables.md): the dense side's worst |E - 1| over the acceptance grid, at
+#: roughness 0.05, anisotropy 1 (alpha_min / alpha_max = 0.0025: kinks of the nearly
+#: one-dimensional surface that the slice's grid does not follow); 2e-3 elsewhere
+DENSE_GRID = 2.5e-3
 #: the furnace's case for the default run: ASM roughness 0.2, anisotropy 0.8 (ratio 0.09)
 ALPHA_X, ALPHA_Y = (float(a) for a in alphas(np.asarray(0.2), np.asarray(0.8)))
 ETA = 1.5
@@ -114,11 +117,11 @@ def piece():
 
 def test_slice_interpolation(piece):
     """The slice against the integrator at order 12 at random directions: the sum within
-    the furnace's bound from the light side, DENSE_MODERATE from the dense side."""
+    the furnace's bound from the light side, DENSE from the dense side."""
     rng = np.random.default_rng(11)
     n = 120
     mu, phi = np.exp(rng.uniform(np.log(0.01), 0.0, n)), rng.uniform(0.0, np.pi / 2, n)
-    for on_light, eta, bound in ((True, ETA, FURNACE), (False, 1 / ETA, DENSE_MODERATE)):
+    for on_light, eta, bound in ((True, ETA, FURNACE), (False, 1 / ETA, DENSE)):
         ref = ggx_anisotropic_dielectric_energy(mu, phi, ALPHA_X, ALPHA_Y, eta, order=12,
                                                 estimate=False)
         E = piece(on_light, mu, np.cos(phi)).sum(-1)
@@ -139,7 +142,7 @@ def test_slice_averages(piece):
 
 
 def _furnace_directions(side):
-    mu = np.array([1.0, 0.5, 0.1, 0.01])
+    mu = np.array([1.0, 0.5, 0.1, 0.03, 0.01])
     phi = np.array([0.0, 0.3, 0.79, 1.6, 2.5])
     M, P = np.meshgrid(mu, phi, indexing="ij")
     return M.ravel(), P.ravel(), _direction(M.ravel(), P.ravel(), side)
@@ -152,13 +155,13 @@ def test_white_furnace_exact_dielectric(rotation):
     both sides; the table-mode lobe misses by far more."""
     lobe = _exact(lobes.DielectricMS, ETA, ALPHA_X, ALPHA_Y)
     turned = Rotated(lobe, 2.0 * np.pi * rotation)
-    for side, eta, bound in ((1.0, ETA, FURNACE), (-1.0, 1 / ETA, DENSE_MODERATE)):
+    for side, eta in ((1.0, ETA), (-1.0, 1 / ETA)):
         mu, phi, wo = _furnace_directions(side)
         e = ggx_anisotropic_dielectric_energy(mu, phi - 2.0 * np.pi * rotation, ALPHA_X,
                                               ALPHA_Y, eta, order=12, estimate=False)
         ms = Rotated(lobe.components[1], 2.0 * np.pi * rotation).albedo(wo, method="table")
         error = np.abs(e.reflection + e.transmission + ms[..., 0] - 1.0)
-        assert error.max() <= bound, (side, error.max())
+        assert error.max() <= FURNACE, (side, error.max())
         assert np.all(turned.albedo(wo, method="table") <= 1.0 + 1e-12)
     table_mode = lobes.DielectricMS(ETA, ALPHA_X, ALPHA_Y).components[1]
     mu, phi, wo = _furnace_directions(1.0)
@@ -171,10 +174,10 @@ def test_white_furnace_exact_dielectric(rotation):
 def test_white_furnace_exact_dielectric_monte_carlo():
     """The whole exact lobe's Monte-Carlo albedo, from both sides."""
     lobe = _exact(lobes.DielectricMS, ETA, ALPHA_X, ALPHA_Y)
-    for side, bound in ((1.0, FURNACE), (-1.0, DENSE_MODERATE)):
+    for side in (1.0, -1.0):
         wo = _direction(np.array([0.9, 0.3, 0.05]), np.array([0.2, 1.0, 0.6]), side)
         E, sigma = lobe.albedo(wo, method="mc", n_samples=200_000, rng=4, return_error=True)
-        assert np.all(np.abs(E[..., 0] - 1.0) <= bound + 4.0 * sigma[..., 0]), E[..., 0]
+        assert np.all(np.abs(E[..., 0] - 1.0) <= FURNACE + 4.0 * sigma[..., 0]), E[..., 0]
 
 
 def test_exact_compensation_is_reciprocal():
@@ -269,12 +272,15 @@ def test_white_openpbr_glass_exact():
 @pytest.mark.parametrize("roughness", [0.05, 0.2, 0.5, 1.0])
 @pytest.mark.parametrize("anisotropy", [0.5, 0.8, 1.0])
 def test_white_furnace_exact_dielectric_grid(roughness, anisotropy):
-    """The acceptance grid from the light side (docs/tables.md has both sides)."""
+    """The acceptance grid, from both sides (rotations are azimuths: ``_furnace_directions``
+    has five of them)."""
     alpha_x, alpha_y = (float(a) for a in alphas(np.asarray(roughness),
                                                   np.asarray(anisotropy)))
     lobe = _exact(lobes.DielectricMS, ETA, alpha_x, alpha_y)
-    mu, phi, wo = _furnace_directions(1.0)
-    e = ggx_anisotropic_dielectric_energy(mu, phi, alpha_x, alpha_y, ETA, order=12,
-                                          estimate=False)
-    ms = lobe.components[1].albedo(wo, method="table")[..., 0]
-    assert np.abs(e.reflection + e.transmission + ms - 1.0).max() <= FURNACE
+    dense = DENSE_GRID if (roughness, anisotropy) == (0.05, 1.0) else FURNACE
+    for side, eta, bound in ((1.0, ETA, FURNACE), (-1.0, 1 / ETA, dense)):
+        mu, phi, wo = _furnace_directions(side)
+        e = ggx_anisotropic_dielectric_energy(mu, phi, alpha_x, alpha_y, eta, order=12,
+                                              estimate=False)
+        ms = lobe.components[1].albedo(wo, method="table")[..., 0]
+        assert np.abs(e.reflection + e.transmission + ms - 1.0).max() <= bound, side
