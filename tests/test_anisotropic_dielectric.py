@@ -181,7 +181,7 @@ def test_white_furnace_exact_dielectric_monte_carlo():
 
 
 def test_exact_compensation_is_reciprocal():
-    """f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 [Walter2007, §5.3] for the exact term,
+    """Generalized reciprocity f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 of the exact term,
     to 1e-10, over pairs on either side."""
     term = _exact(lobes.DielectricMultipleScattering, ETA, ALPHA_X, ALPHA_Y)
     rng = np.random.default_rng(2)
@@ -214,6 +214,16 @@ def test_isotropic_lobes_unchanged_bit_for_bit():
         np.testing.assert_array_equal(exact.eval(wo, wi), table.eval(wo, wi))
         np.testing.assert_array_equal(exact.albedo(wo, method="table"),
                                       table.albedo(wo, method="table"))
+
+
+def test_exact_mode_builds_lobes_without_tables():
+    """A Beckmann interface has no slices (nor tables): built exact it is the same lobe."""
+    exact = _exact(lobes.Dielectric, ETA, ALPHA_X, ALPHA_Y, model="beckmann")
+    table = lobes.Dielectric(ETA, ALPHA_X, ALPHA_Y, model="beckmann")
+    wo = _direction(np.array([0.8, 0.3]), np.array([0.1, 2.0]))
+    wi = _direction(np.array([0.5, 0.9]), np.array([1.0, 4.0]), -1.0)
+    assert not exact.exact
+    np.testing.assert_array_equal(exact.eval(wo, wi), table.eval(wo, wi))
 
 
 def test_coat_albedo_from_the_slice():

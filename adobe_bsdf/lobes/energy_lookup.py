@@ -330,9 +330,9 @@ def anisotropic_coordinates(distribution: GGX, w, blend: bool = False):
 def exact_anisotropic(distribution: GGX) -> bool:
     """Whether a lobe over ``distribution`` built now reads an anisotropic dielectric's
     energy from its own slice (``config`` option ``anisotropic_energy = "exact"``, and some
-    element anisotropic)."""
+    element anisotropic; a distribution other than GGX has no slices)."""
     return (config.get_options().anisotropic_energy == "exact"
-            and bool(np.any(is_anisotropic(distribution))))
+            and isinstance(distribution, GGX) and bool(np.any(is_anisotropic(distribution))))
 
 
 def _slices(eta, distribution: GGX, shape):

@@ -60,7 +60,7 @@ SLICE_ORDER = 8
 SLICE_NODE_ERROR = 2e-4
 #: nodes (mu coordinate, azimuth coordinate) of each part (``_Part``)
 SLICE_NODES = {"outside": (24, 16), "grazing-near": (12, 12), "grazing-far": (12, 12),
-               "below-near": (10, 12), "below-far": (10, 12), "above": (12, 14)}
+               "below-near": (10, 12), "below-far": (14, 16), "above": (12, 14)}
 #: slices kept in memory (each ~40 KB)
 CACHED_SLICES = 256
 #: Gauss points per cell and dimension of the averages
@@ -98,10 +98,10 @@ class _Part:
     ``_two_sided`` coordinates) uniform.
 
     x, the cosine coordinate: "outside": v (``blended``); on the dense side, with v_c the v
-    of mu_c: "grazing-*": ``_two_sided``(2 v / v_c), "below-*": ``_two_sided``(2 - 2 v / v_c),
-    "above": (mu - mu_c) / (1 - mu_c). u, the azimuth coordinate (c = |cos phi|): "*-near": ``_two_sided``(c / k(mu))
-    (crowded towards the smooth axis and the kink), "*-far": (c - k) / (1 - k), else c
-    itself.
+    of mu_c: "grazing-*": ``_two_sided``(2 v / v_c), "below-*": ``_two_sided``(2 - 2 v /
+    v_c), "above": (mu - mu_c) / (1 - mu_c). u, the azimuth coordinate (c = |cos phi|):
+    "*-near": ``_two_sided``(c / k(mu)) (crowded towards the smooth axis and the kink),
+    "*-far": (c - k) / (1 - k), else c itself.
     """
 
     kind: str
