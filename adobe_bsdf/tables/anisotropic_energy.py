@@ -135,17 +135,24 @@ class _Node:
         """The node parameters shaped ``(n, 1, ...)`` for results of ``ndim`` dimensions."""
         return {k: v.reshape(v.shape + (1,) * (ndim - 1)) for k, v in self._p.items()}
 
-    def fields(self, t, psi):
-        """(wo'.m', mu_i, S_i, mu_o, S_o) at m'(t, psi); the result's first axis is the
-        node's."""
+    def _facet(self, t, psi):
+        """(q, wo'.m', n, N, k) at m'(t, psi): q the node parameters, n = (nx, ny, nz) the
+        rough surface's unnormalised normal, N = |n|^2 and k with the mirror direction
+        wi = k n - wo."""
         q = self._params(max(np.ndim(t), np.ndim(psi)))
         st, ct = np.sin(t), np.cos(t)
         mx, my = st * np.cos(psi), st * np.sin(psi)
         c = q["px"] * mx + q["py"] * my + q["pz"] * ct
         nx, ny = q["ax"] * mx, q["ay"] * my
         N = nx * nx + ny * ny + ct * ct
-        k = 2.0 * q["S_o"] * c / np.where(N > 0.0, N, 1.0)  # wi = k n - wo
-        ix, iy, iz = k * nx - q["wx"], k * ny - q["wy"], k * ct - q["mu"]
+        k = 2.0 * q["S_o"] * c / np.where(N > 0.0, N, 1.0)
+        return q, c, (nx, ny, ct), N, k
+
+    def fields(self, t, psi):
+        """(wo'.m', mu_i, S_i, mu_o, S_o) at m'(t, psi); the result's first axis is the
+        node's."""
+        q, c, (nx, ny, nz), _, k = self._facet(t, psi)
+        ix, iy, iz = k * nx - q["wx"], k * ny - q["wy"], k * nz - q["mu"]
         S_i = np.sqrt(iz * iz + (q["ax"] * ix) ** 2 + (q["ay"] * iy) ** 2)
         return c, iz, S_i, q["mu"], q["S_o"]
 
@@ -192,14 +199,8 @@ class _DielectricNode(_Node):
         """(wo'.m', wo.m, mu_i, S_i, mu_t, S_t, q) at m'(t, psi), q the node parameters;
         mu_t = -wt_z (positive where wt leaves below), continuous through total internal
         reflection; S_i, S_t None unless ``lengths``."""
-        q = self._params(max(np.ndim(t), np.ndim(psi)))
-        st, ct = np.sin(t), np.cos(t)
-        mx, my = st * np.cos(psi), st * np.sin(psi)
-        c1 = q["px"] * mx + q["py"] * my + q["pz"] * ct
-        nx, ny = q["ax"] * mx, q["ay"] * my
-        N = nx * nx + ny * ny + ct * ct
+        q, c1, (nx, ny, ct), N, k = self._facet(t, psi)
         root = np.sqrt(N)
-        k = 2.0 * q["S_o"] * c1 / N  # wi = k n - wo
         iz = k * ct - q["mu"]
         c = q["S_o"] * c1 / root  # wo.m
         eta = q["eta"]
