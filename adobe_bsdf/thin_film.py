@@ -100,8 +100,9 @@ def _airy(lam, c, d, n1, n2, eta, k, transmittance=True):
     The power entering the substrate is T = Re(y3) / y1 |t|^2 with
     t = (1 + r12)(1 + r23) e^{i delta / 2} / den [BornWolf1980, §1.6.3] (fields tangential
     to the interfaces), written with (1 + r12) / sqrt(y1) = 2 sqrt(y1) / (y1 + y2) so that
-    nothing is divided by a grazing y1; the quotients are complex divisions (scaled), so
-    that subnormal numerators and denominators keep their ratio.
+    nothing is divided by a grazing y1; the quotients are complex divisions of both terms
+    scaled by a power of two (``_quotient``), so that subnormal numerators and denominators
+    keep their ratio.
 
     Index-matched interfaces are no interfaces: n2 = n1 (or d = 0) leaves the interface
     n1 / n3 and n3 = n2 the interface n1 / n2, evaluated directly; with no interface left
@@ -152,9 +153,10 @@ def _airy(lam, c, d, n1, n2, eta, k, transmittance=True):
                 num = np.where(single, y1 - yj, num)
                 den = np.where(single, y1 + yj, den)
                 tau = np.where(single, 2.0 * np.sqrt(y1), tau)
-            R = R + 0.5 * _abs2(num / den)
+            R = R + 0.5 * _abs2(_quotient(num, den))
             if transmittance:
-                T = T + 0.5 * (y3.real * E_abs) * _abs2(tau / den)
+                # |tau / den| reaches 1e154 where y3 is subnormal: square after the product
+                T = T + 0.5 * (np.abs(_quotient(tau, den)) * np.sqrt(y3.real * E_abs)) ** 2
     # no interface at all (R = 0, T = 1), else R = 1 at grazing incidence (where the
     # quotients above are 0 / 0 for a bare interface n1 / n1 + i k seen at c = 0)
     none = bare & (eta == n1) & (k == 0.0)
@@ -165,6 +167,16 @@ def _airy(lam, c, d, n1, n2, eta, k, transmittance=True):
     # |r| <= 1 and R + T = 1 hold exactly; the bounds only remove rounding (a few ulp)
     return (np.asarray(np.minimum(R, 1.0)),
             np.asarray(np.minimum(T, 1.0)) if transmittance else None)
+
+
+def _quotient(num, den):
+    """num / den, both first scaled by the power of two that brings |den| near 1: NumPy's
+    complex division overflows or gives NaN where den is subnormal (0 / 5e-309 is NaN),
+    which a film of subnormal thickness seen at a subnormal cosine reaches."""
+    _, e = np.frexp(np.maximum(np.abs(den.real), np.abs(den.imag)))
+    half = np.ldexp(1.0, -(e // 2))  # two steps: 2^1074 alone overflows
+    rest = np.ldexp(1.0, e // 2 - e)
+    return (num * half * rest) / (den * half * rest)
 
 
 def _abs2(z):

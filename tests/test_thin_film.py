@@ -410,3 +410,17 @@ def test_default_wavelength_grid_convergence(n2, bound):
 def test_thin_film_bad_input_names_parameter(call, name):
     with pytest.raises(ValueError, match=name):
         call()
+
+
+def test_subnormal_film_at_a_subnormal_cosine():
+    """A film of subnormal thickness seen at a subnormal cosine between equal media: NumPy's
+    complex division of subnormals gave R = 1 and T = 1 (hypothesis found it). The result
+    depends on d / mu only: the same at (2^-1022, 2^-1022) and (1e-300, 1e-300)."""
+    tiny = 2.0**-1022
+    R = airy_R(380.0, tiny, tiny, 2.0, 1.0, 0.0, outside_ior=1.0)
+    T = airy_T(380.0, tiny, tiny, 2.0, 1.0, 0.0, outside_ior=1.0)
+    assert abs(R + T - 1.0) <= EXACT
+    np.testing.assert_allclose(R, airy_R(380.0, 1e-300, 1e-300, 2.0, 1.0, 0.0,
+                                         outside_ior=1.0), rtol=1e-9)
+    assert 0.0 < R < 1e-3
+
