@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
+from adobe_bsdf.bsdf import Flags
 from adobe_bsdf.lobes.lambert import Lambert
 from adobe_bsdf.lobes.oren_nayar import (
     EON,
@@ -217,6 +218,18 @@ def test_clipped_side_follows_the_sign_of_d(cos_theta):
 def test_weight_consistency_at_edge_uniforms(sigma, wo, u):
     result = checks.weight_consistency(EON(0.7, sigma), wo, u=u[None], rtol=WEIGHT)
     assert result.passed, str(result)
+
+
+def test_weight_consistency_at_a_subnormal_sampled_cosine():
+    """Found by hypothesis: grazing wo and sigma = 5e-324 sample wi.z = 5e-324. The check
+    must neither call that pair transmission (wo.z wi.z underflows to 0) nor compute the
+    expected weight as f |wi.z| / pdf (f |wi.z| underflows to 0); the sample itself is right."""
+    wo, u = np.array([1.0, 0.0, 1e-8]), np.array([[0.5, 0.0, 0.0]])
+    lobe = EON(0.7, 5e-324)
+    s = lobe.sample(wo, u[0])
+    assert 0.0 < s.wi[2] < 1e-300 and s.flags & Flags.REFLECTION
+    result = checks.weight_consistency(lobe, wo, u=u, rtol=WEIGHT)
+    assert result.passed and result.n_checked == 1, str(result)
 
 
 # -- parameters, extremes, bad input --------------------------------------------------------------

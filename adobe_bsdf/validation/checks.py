@@ -70,6 +70,15 @@ def _relative_difference(a, b, atol: float = 0.0) -> np.ndarray:
     return np.where(finite, rel, np.inf)
 
 
+def _same_side(wo, wi, opposite: bool = False) -> np.ndarray:
+    """Whether ``wo`` and ``wi`` lie strictly on the same (or opposite) side of the surface.
+
+    Compares signs, not ``wo.z * wi.z``: that product underflows to 0 for subnormal cosines.
+    """
+    zo, zi = wo[..., 2], wi[..., 2]
+    return (zo != 0) & (zi != 0) & ((np.signbit(zo) == np.signbit(zi)) != opposite)
+
+
 def _max(values) -> float:
     values = np.asarray(values, dtype=np.float64)
     return float(values.max()) if values.size else 0.0
@@ -308,7 +317,7 @@ def reciprocity_error(
     max_error = _max(errors)
     return ReciprocityResult(
         passed=max_error <= rtol, max_error=max_error, rtol=rtol, n_pairs=int(errors.size),
-        n_transmission=int(np.count_nonzero(wo[..., 2] * wi[..., 2] < 0)),
+        n_transmission=int(np.count_nonzero(_same_side(wo, wi, opposite=True))),
         worst_wo=wo[worst], worst_wi=wi[worst], errors=errors)
 
 
@@ -399,11 +408,12 @@ def weight_consistency(
     wo_live, wi_live = np.broadcast_to(wo, s.wi.shape)[live], s.wi[live]
     pdf = lobe.pdf(wo_live, wi_live)
     with np.errstate(divide="ignore", invalid="ignore"):
-        weight = lobe.eval(wo_live, wi_live) * np.abs(wi_live[:, 2:]) / pdf[:, None]
+        # |wi.z| / pdf first: a subnormal cosine times f underflows where the ratio does not
+        weight = lobe.eval(wo_live, wi_live) * (np.abs(wi_live[:, 2:]) / pdf[:, None])
     weight_errors = _relative_difference(s.weight[live], weight).max(axis=-1, initial=0.0)
     pdf_errors = _relative_difference(s.pdf[live], pdf)
     flags = np.asarray(s.flags)[live]
-    reflection = wo_live[:, 2] * wi_live[:, 2] > 0
+    reflection = _same_side(wo_live, wi_live)
     says_reflection = (flags & Flags.REFLECTION) != 0
     says_transmission = (flags & Flags.TRANSMISSION) != 0
     mismatch = (says_reflection != reflection) | (says_transmission == reflection)
