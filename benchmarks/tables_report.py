@@ -170,6 +170,16 @@ def moments_near_one_rows(rng, n=24, n_samples=40_000):
     return n, worst, sigma_max
 
 
+def anisotropic_node_rows(seeds=(0, 7, 11), n=48):
+    """``bake --check`` of the anisotropic conductor at ``n`` random nodes per seed: nodes,
+    the check's order, the largest difference and the largest stored error estimate."""
+    spec = tables.spec("ggx_conductor_anisotropic")
+    results = [baking.check(spec, tables.get(spec.name), n_nodes=n, seed=seed)
+               for seed in seeds]
+    return (n * len(seeds), results[0].order, max(r.max_difference for r in results),
+            max(r.max_stored_error for r in results))
+
+
 def moments_node_rows(n_nodes=48, high=40):
     """Accuracy of the moments' nodes in their Fresnel combinations (what ``bake --check``
     compares, ``catalog.CHECK_ETAS``) and of the raw moments: the shipped order against
@@ -513,6 +523,11 @@ def main(argv=None):
     for lo, hi, count, emax, erms, eregion, eiso in anisotropy_rows(rng):
         out.append(f"| [{lo:g}, {hi:g}] | {count} | {emax:.1e} | {erms:.1e} | {eregion:.1e} | "
                    f"{eiso:.1e} |")
+    n_nodes, high, worst, estimate = anisotropic_node_rows()
+    out += ["", f"Node accuracy: at {n_nodes} random nodes re-integrated at order {high} "
+            f"(`bake --check`), the shipped order {aniso.order} is within {worst:.1e} (the "
+            f"stored estimates |Q(n) - Q(2n/3)| reach {estimate:.1e}; `bake --check` accepts "
+            f"{aniso.check_tol:g})."]
     low = MOMENTS_IOR_LOW
     out += ["", "## Anisotropic dielectric reflection: the Fresnel moments", "",
             "The ASM's lobe integral L of an anisotropic specular (`ggx_reflection_moments`, "
@@ -541,8 +556,7 @@ def main(argv=None):
     cosines = ", ".join(f"{x:g}" for x in FURNACE_COSINES)
     azimuths = ", ".join(f"{x:.2g}" for x in FURNACE_AZIMUTHS)
     n_nodes, e_max, e_median, per_node = slice_node_rows(rng)
-    nodes = dielectric_slices.SLICE_NODES
-    n_slice = sum(a * b for a, b in nodes.values())
+    example = dielectric_slices.dielectric_slice(*SLICE_CASES[0])
     iso = [tables.spec(n) for n in ("ggx_dielectric_outside", "ggx_dielectric_inside")]
     iso_nodes = int(np.prod([a.n for a in iso[0].axes]))
     cos_phi, ratio = aniso.axes[1].n, aniso.axes[3].n
@@ -563,10 +577,11 @@ def main(argv=None):
             "over wo's cosine and azimuth, exact in alpha, ratio and eta, by "
             "`tables.anisotropic_energy.ggx_anisotropic_dielectric_energy` (the stretched "
             "quadrature with the refracted direction) at order "
-            f"{dielectric_slices.SLICE_ORDER}, {n_slice} nodes in "
-            f"{len(nodes)} tables: " + ", ".join(f"{k} {a} x {b}" for k, (a, b) in nodes.items())
-            + " (the dense side split at the critical cosine and at the kink of a nearly "
-            "one-dimensional surface, `tables.dielectric_slices`). The default "
+            f"{dielectric_slices.SLICE_ORDER}; at index ratio {SLICE_CASES[0][2]:g}, "
+            f"{example.n_nodes} nodes in {len(example.parts)} tables (mu x |cos phi|): "
+            + "; ".join(example.layout())
+            + " (the dense side split at the critical cosine, at 1 / eta and along the two "
+            "kinks of a nearly one-dimensional surface, `tables.dielectric_slices`). The default "
             "(`\"table\"`) still reads the isotropic tables at sqrt(alpha_x alpha_y): "
             "a slice costs seconds, once per distinct (alpha_x, alpha_y, eta) in a process.",
             "", f"Node accuracy: at {n_nodes} random nodes (mu >= 0.005, alpha in [0.003, "
@@ -581,11 +596,11 @@ def main(argv=None):
         out.append(f"| {alpha:.4g} | {ratio_:.3g} | {eta:g} | {seconds:.1f} s | "
                    + " | ".join(f"{e:.1e}" for e in errors) + " |")
     out += ["", "The dense side is the harder one: total internal reflection sets in at the "
-            "critical cosine, and a nearly one-dimensional surface has further kinks (where "
-            "its steepest facets leave total internal reflection, or send the refracted "
-            "direction to the horizon) along curves in (mu, phi) that a tensor grid only "
-            "approaches. Only E_R + E_T enters the Kulla–Conty terms; E_R alone (a coat "
-            "seen from below) is the less accurate.",
+            "critical cosine, and a nearly one-dimensional surface has two further kinks, "
+            "where the facet facing wo and where the vertical facets leave total internal "
+            "reflection; the tables are split along them. Only E_R + E_T enters the "
+            "Kulla–Conty terms; E_R alone (a coat's albedo) is the less accurate, at grazing "
+            "angles of a smooth axis most.",
             "", "## White furnace of anisotropic lobes", "",
             f"White `ConductorMS` (F = 1) and `DielectricMS` (index ratio {FURNACE_ETA:g}, "
             "from the light and the dense side) at the ASM alphas alpha_x = r^2 + a^4, "

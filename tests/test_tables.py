@@ -198,9 +198,12 @@ def test_bake_check_rebakes_random_nodes_at_a_higher_order(name):
     parent = tables.get(spec.depends[0]) if spec.depends else None
     result = check(spec, tables.get(name), n_nodes=6, seed=7, workers=1, parent=parent)
     assert result.passed, result
-    # only the moments' nodes are declared less accurate (in their Fresnel combinations)
+    # only the anisotropic tables' nodes (order 12 in four dimensions) are declared less
+    # accurate: the conductor's to its measured 5e-5, the moments in their Fresnel
+    # combinations
     assert spec.check_tol == CHECK_TOL or (name == "ggx_reflection_moments"
-                                           and spec.checked is not None)
+                                           and spec.checked is not None) or (
+        name == "ggx_conductor_anisotropic" and spec.check_tol <= 5e-5)
 
 
 def test_smooth_nodes_are_the_exact_fresnel_limit():

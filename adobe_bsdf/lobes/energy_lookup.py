@@ -443,9 +443,11 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
             E, err = lookup(name, mu, with_error, alpha=alpha, eta=ratio)
             total = np.where(here, E, total)
             error = _where(here, err, error)
-    # the pass-through keeps the tables' eta = 1 limit, the lobe's own energy there
+    aniso = np.broadcast_to(is_anisotropic(distribution), shape) if exact else np.False_
+    # the pass-through keeps the tables' eta = 1 limit, the lobe's own energy there; the
+    # exact anisotropic elements read their slices below, so they integrate nothing here
     near = np.broadcast_to(near_matched(ratio, mu) & ~distribution.smooth
-                           & ~passes_through(eta, distribution), shape)
+                           & ~passes_through(eta, distribution), shape) & ~aniso
     if np.any(near):
         E_R, E_T, err_R, err_T = _integrated(near, mu, alpha, np.where(on_light, ratio,
                                                                          1.0 / ratio), with_error)
@@ -453,7 +455,6 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
         if with_error:
             error[near] = err_R + err_T
     if exact:
-        aniso = np.broadcast_to(is_anisotropic(distribution), shape)
         E_s, error_s = slice_energy(eta, distribution, wo, with_error)
         total = np.where(aniso, E_s.sum(-1), total)
         error = None if error is None else np.where(aniso, error_s.sum(-1), error)

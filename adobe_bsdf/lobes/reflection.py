@@ -311,8 +311,10 @@ class DielectricReflection(MicrofacetReflection):
         alpha, ratio = table_alpha(self.distribution), checked_ratio(self.eta)
         mu = np.clip(wo[..., 2], 0.0, 1.0)  # 1 + an ulp by rounding is 1
         light = sides(self.eta)[0]
+        # exact anisotropic elements read their slices below: none integrates here
+        aniso = is_anisotropic(self.distribution) if self.exact else np.False_
         parts = [reflected_energy(name, mu, alpha, ratio, {"alpha": alpha, "eta": ratio}, seen,
-                                  with_error, where)
+                                  with_error, where & ~aniso)
                  for name, seen, where in (("ggx_dielectric_outside", ratio, light),
                                            ("ggx_dielectric_inside", 1.0 / ratio, ~light))]
         E = np.where(light, parts[0][0], parts[1][0])
@@ -322,7 +324,7 @@ class DielectricReflection(MicrofacetReflection):
         error = grey(None if error is None else np.where(up, error, 0.0))
         if self.exact:
             E_s, error_s = slice_energy(self.eta, self.distribution, wo, with_error)
-            aniso = is_anisotropic(self.distribution)[..., None]
+            aniso = np.asarray(aniso)[..., None]
             E = np.where(aniso, grey(np.where(up, E_s[..., 0], 0.0)), E)
             if with_error:
                 error = np.where(aniso, grey(np.where(up, error_s[..., 0], 0.0)), error)

@@ -18,24 +18,34 @@ needs only the two-dimensional slice through it: a few hundred nodes by
 shipped table's. The slice is exact in alpha, ratio and eta; its error is the interpolation's
 in (mu, phi), measured in the report.
 
-Coordinates. In |cos phi| (from the axis of alpha_max) the nodes are those of
-"ggx_conductor_anisotropic", log-spaced towards the smooth axis. In mu: seen from the less
-dense side, the blended coordinate v (``anisotropic_energy.blended``: the grazing boundary
-layer and mu itself). Seen from the dense side, total internal reflection sets in at the
-critical cosine mu_c = sqrt(1 - 1 / eta^2), where the energy of a smooth interface has a
-kink and a rough one a transition as narrow as the roughness; and below mu_c a nearly
-one-dimensional surface (ratio -> 0) has a second one where its steepest facets, tilted
-along the rough axis, leave total internal reflection: wo's component in the plane of that
-axis and the normal reaches mu_c, |cos phi| = k(mu) = sqrt((mu_c^2 - mu^2) / (1 - mu^2)).
-That side is therefore five tables (``_Part``): grazing and below mu_c, each on either side
-of k(mu), and above mu_c, their nodes crowded towards grazing, mu_c and k(mu), so that no
-interpolation stencil straddles a kink.
+Coordinates. Seen from the less dense side, one table over (s, |cos phi|), |cos phi| (from
+the axis of alpha_max) log-spaced towards the smooth axis and s = 1 - sqrt(1 - v) of the
+blended coordinate v (``anisotropic_energy.blended``: the grazing boundary layer and mu),
+log-spaced towards grazing, its nodes also crowding towards normal incidence (where a very
+rough interface's energy goes as (1 - mu)^p, p ~ 1.3). Seen from the dense side, total
+internal reflection sets in at the critical cosine mu_c = sqrt(1 - 1 / eta^2), where the
+energy of a smooth interface has a kink and a rough one a transition as narrow as the
+roughness. A nearly one-dimensional surface (ratio -> 0), whose facets all tilt in the plane
+of the rough axis and the normal, has two more kinks along curves in (mu, |cos phi|), where
+facets of that plane leave total internal reflection (wo.m = mu_c):
+
+- k1(mu) = sqrt((mu_c^2 - mu^2) / (1 - mu^2)) (0 from mu_c up): the facet facing wo's
+  projection on that plane, whose length then is mu_c;
+- k2(mu) = mu_c / sqrt(1 - mu^2), up to mu = 1 / eta where it reaches |cos phi| = 1: the
+  vertical facets, wo's component along the rough axis then being mu_c.
+
+The dense side is therefore tiled by tables (``_Part``): in mu, the segments of
+``_segments`` (the grazing boundary layer, the rest below min(mu_c, 1 / eta), then split at
+mu_c and 1 / eta); in |cos phi|, the bands [0, k1], [k1, k2] and [k2, 1] ("near", "mid",
+"far") that a segment has. Nodes crowd geometrically towards grazing, mu_c, the smooth axis
+and both kinks (``_two_sided``), so that no interpolation stencil straddles a kink: eight
+tables at eta = 1.5.
 """
 
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.special import roots_legendre
@@ -58,9 +68,11 @@ SLICE_ORDER = 8
 #: random nodes (mu >= 0.005, alpha in [0.003, 1.5], ratio, eta in [1/3, 3]), measured by
 #: ``benchmarks.tables_report`` and carried as every node's error estimate
 SLICE_NODE_ERROR = 2e-4
-#: nodes (mu coordinate, azimuth coordinate) of each part (``_Part``)
-SLICE_NODES = {"outside": (24, 16), "grazing-near": (12, 12), "grazing-far": (12, 12),
-               "below-near": (10, 12), "below-far": (14, 16), "above": (12, 14)}
+#: nodes (mu, |cos phi|) of the light side's table and, on the dense side, nodes in mu of the
+#: grazing segment and of the others (``_segments``) and in |cos phi| of each band there
+SLICE_NODES = {"outside": (32, 16),
+               "grazing": {"mu": 12, "near": 14, "mid": 10, "far": 12},
+               "segment": {"mu": 10, "near": 12, "mid": 10, "far": 10}}
 #: slices kept in memory (each ~40 KB)
 CACHED_SLICES = 256
 #: Gauss points per cell and dimension of the averages
@@ -70,126 +82,183 @@ _AVERAGE_ORDER = 8
 _STEPS = 60
 
 
-#: smallest relative node spacing of ``_two_sided``
-_EDGE = 0.01
-_Y0 = float(np.log(_EDGE / (1.0 + _EDGE)))
+#: relative node spacings of ``_two_sided`` at an end (t = 0 or 1): grazing, the critical
+#: cosine and the smooth axis (structure on the scale of the roughness), a kink of a band, and
+#: an end of nothing in particular
+_GRAZING_EDGE, _CRITICAL_EDGE, _AXIS_EDGE, _KINK_EDGE, _PLAIN_EDGE = 0.01, 0.005, 0.003, 0.02, 0.2
+_EDGES = (_KINK_EDGE, _KINK_EDGE)
 
 
-def _two_sided(t):
+def _two_sided(t, edges=_EDGES):
     """u in [0, 1] of t in [0, 1] whose uniform nodes crowd geometrically towards both ends
-    of t: u = (ln((t + e) / (1 - t + e)) - Y0) / (-2 Y0), e = ``_EDGE``."""
-    return (np.log((t + _EDGE) / (1.0 - t + _EDGE)) - _Y0) / (-2.0 * _Y0)
+    of t: u = (ln((t + e0) / (1 - t + e1)) - y0) / (y1 - y0), y0, y1 its values at 0 and 1."""
+    e0, e1 = edges
+    y0, y1 = np.log(e0 / (1.0 + e1)), np.log((1.0 + e0) / e1)
+    return (np.log((t + e0) / (1.0 - t + e1)) - y0) / (y1 - y0)
 
 
-def _two_sided_inverse(u):
+def _two_sided_inverse(u, edges=_EDGES):
     """t of ``_two_sided``."""
-    q = np.exp(_Y0 * (1.0 - 2.0 * np.asarray(u, dtype=np.float64)))
-    return np.clip((q * (1.0 + _EDGE) - _EDGE) / (1.0 + q), 0.0, 1.0)
+    e0, e1 = edges
+    y0, y1 = np.log(e0 / (1.0 + e1)), np.log((1.0 + e0) / e1)
+    q = np.exp(y0 + (y1 - y0) * np.asarray(u, dtype=np.float64))
+    return np.clip((q * (1.0 + e1) - e0) / (1.0 + q), 0.0, 1.0)
 
 
-def _kink(mu, mu_c):
-    """k(mu) = sqrt((mu_c^2 - mu^2) / (1 - mu^2)), 0 from mu_c up."""
-    return np.sqrt(np.maximum(mu_c * mu_c - mu * mu, 0.0) / np.maximum(1.0 - mu * mu, 1e-300))
+def _kinks(mu, mu_c):
+    """(k1, k2) of the dense side at cosine ``mu``: k1 = sqrt((mu_c^2 - mu^2) / (1 - mu^2)),
+    0 from mu_c up; k2 = min(mu_c / sqrt(1 - mu^2), 1)."""
+    sin2 = np.maximum(1.0 - mu * mu, 1e-300)
+    k1 = np.sqrt(np.maximum(mu_c * mu_c - mu * mu, 0.0) / sin2)
+    return k1, np.maximum(np.minimum(mu_c / np.sqrt(sin2), 1.0), k1)
+
+
+def _segments(mu_c: float) -> list[tuple[str, float, float]]:
+    """The dense side's ranges of mu, (kind, lo, hi): split at mu_c (total internal
+    reflection) and at mu_s = sqrt(1 - mu_c^2) = 1 / eta (where k2 reaches |cos phi| = 1, so
+    that the band "far" ends). Below m = min(mu_c, mu_s) the split is at the middle of the
+    blended coordinate v (``blended``), whose lower half is the grazing boundary layer."""
+    mu_s = float(np.sqrt(1.0 - mu_c * mu_c))
+    cuts = sorted({mu_c, mu_s, 1.0} - {0.0})
+    m = cuts[0]
+    return [("grazing", 0.0, m), ("lower", 0.0, m),
+            *(("plain", lo, hi) for lo, hi in zip(cuts[:-1], cuts[1:], strict=True))]
 
 
 @dataclass(frozen=True)
 class _Part:
-    """One table of a slice over (x, u), both in [0, 1], nodes log-spaced towards 0 or (the
-    ``_two_sided`` coordinates) uniform.
+    """One table of a slice over (x, u), both in [0, 1].
 
-    x, the cosine coordinate: "outside": v (``blended``); on the dense side, with v_c the v
-    of mu_c: "grazing-*": ``_two_sided``(2 v / v_c), "below-*": ``_two_sided``(2 - 2 v /
-    v_c), "above": (mu - mu_c) / (1 - mu_c). u, the azimuth coordinate (c = |cos phi|):
-    "*-near": ``_two_sided``(c / k(mu)) (crowded towards the smooth axis and the kink),
-    "*-far": (c - k) / (1 - k), else c itself.
+    "outside" (the light side): x = 1 - sqrt(1 - v) (v: ``blended``), u = |cos phi|.
+    Dense side: mu in a segment (``_segments``) mapped to [0, 1], by t = 2 v / v(hi) on
+    "grazing", 2 - 2 v / v(hi) on "lower" and (mu - lo) / (hi - lo) on "plain", then
+    x = ``_two_sided``(t); |cos phi| in the band ("near": [0, k1], "mid": [k1, k2], "far":
+    [k2, 1], ``_kinks``) mapped to [0, 1], then u = ``_two_sided`` of it.
     """
 
-    kind: str
+    segment: str
+    band: str
     mu_c: float
     alpha: float
     ratio: float
+    lo: float = 0.0
+    hi: float = 1.0
     table: Table | None = None
 
     def _a_phi(self, c):
         return projected_alpha(c, max(self.alpha, ALPHA_FLOOR), self.ratio)
 
+    @property
+    def _x_edges(self):
+        """``_two_sided``'s end spacings in t: crowded towards grazing and mu_c."""
+        def edge(mu):
+            return _CRITICAL_EDGE if mu == self.mu_c else _PLAIN_EDGE
+        return {"grazing": (_GRAZING_EDGE, _GRAZING_EDGE),
+                "lower": (edge(self.hi), _GRAZING_EDGE)}.get(
+                    self.segment, (edge(self.lo), edge(self.hi)))
+
+    @property
+    def _u_edges(self):
+        """The same in |cos phi|: crowded towards the smooth axis and the kinks (k2 of the
+        band "mid" is no kink where it is 1)."""
+        if self.band == "near":
+            return _AXIS_EDGE, _KINK_EDGE
+        if self.band == "far":
+            return _KINK_EDGE, _PLAIN_EDGE
+        return _KINK_EDGE, (_KINK_EDGE if self.hi <= np.sqrt(1.0 - self.mu_c**2)
+                            else _PLAIN_EDGE)
+
+    def _t(self, mu, c):
+        """The segment's coordinate t in [0, 1] (unclipped)."""
+        if self.segment == "plain":
+            return (mu - self.lo) / (self.hi - self.lo)
+        a_phi = self._a_phi(c)
+        t = 2.0 * blended(mu, a_phi) / blended(self.hi, a_phi)
+        return t if self.segment == "grazing" else 2.0 - t
+
+    def _x(self, mu, c):
+        if self.segment == "outside":
+            return 1.0 - np.sqrt(1.0 - np.minimum(blended(mu, self._a_phi(c)), 1.0))
+        return _two_sided(np.clip(self._t(mu, c), 0.0, 1.0), self._x_edges)
+
+    def _mu(self, x, c):
+        if self.segment == "outside":
+            return unblended(1.0 - (1.0 - x) ** 2, self._a_phi(c))
+        t = _two_sided_inverse(x, self._x_edges)
+        if self.segment == "plain":
+            return self.lo + t * (self.hi - self.lo)
+        a_phi = self._a_phi(c)
+        t = t if self.segment == "grazing" else 2.0 - t
+        return np.minimum(unblended(0.5 * t * blended(self.hi, a_phi), a_phi), self.hi)
+
+    def _band(self, mu):
+        k1, k2 = _kinks(mu, self.mu_c)
+        return {"near": (0.0 * k1, k1), "mid": (k1, k2), "far": (k2, 1.0 + 0.0 * k2)}[self.band]
+
     def coordinates(self, mu, c):
         """(x, u) of directions (mu, |cos phi| = c) of this part."""
-        a_phi = self._a_phi(c)
-        if self.kind == "outside":
-            x = np.minimum(blended(mu, a_phi), 1.0)
-        elif self.kind == "above":
-            x = np.clip((mu - self.mu_c) / (1.0 - self.mu_c), 0.0, 1.0)
-        else:
-            t = 2.0 * blended(mu, a_phi) / blended(self.mu_c, a_phi)
-            x = _two_sided(np.clip(t if self.kind.startswith("grazing") else 2.0 - t, 0.0, 1.0))
-        k = _kink(mu, self.mu_c)
-        if self.kind.endswith("near"):
-            u = _two_sided(np.clip(np.where(k > 0.0, c / np.where(k > 0.0, k, 1.0), 1.0),
-                                   0.0, 1.0))
-        elif self.kind.endswith("far"):
-            u = (c - k) / (1.0 - k)
-        else:
-            u = c
-        return x, np.clip(u, 0.0, 1.0)
+        x = self._x(mu, c)
+        if self.segment == "outside":
+            return x, c
+        lo, hi = self._band(mu)
+        width = hi - lo
+        t = np.clip(np.divide(c - lo, width, out=np.zeros_like(width), where=width > 0.0),
+                    0.0, 1.0)
+        return x, _two_sided(t, self._u_edges)
 
     def directions(self, x, u):
         """(mu, |cos phi|) of the coordinates (x, u), by fixed-point steps where they depend
-        on each other."""
+        on each other (mu on phi only through the projected roughness of ``blended``)."""
         c = np.asarray(u, dtype=np.float64)
-        for _ in range(_STEPS if "-" in self.kind else 1):
-            a_phi = self._a_phi(c)
-            if self.kind == "outside":
-                mu = unblended(x, a_phi)
-            elif self.kind == "above":
-                mu = self.mu_c + x * (1.0 - self.mu_c)
-            else:
-                t = _two_sided_inverse(x)
-                t = t if self.kind.startswith("grazing") else 2.0 - t
-                mu = np.minimum(unblended(0.5 * t * blended(self.mu_c, a_phi), a_phi),
-                                self.mu_c)
-            k = _kink(mu, self.mu_c)
-            if self.kind.endswith("near"):
-                c = _two_sided_inverse(u) * k
-            elif self.kind.endswith("far"):
-                c = k + u * (1.0 - k)
+        if self.segment == "outside":
+            return self._mu(x, c), c
+        t = _two_sided_inverse(c, self._u_edges)
+        for _ in range(1 if self.segment == "plain" else _STEPS):
+            mu = self._mu(x, c)
+            lo, hi = self._band(mu)
+            c = lo + t * (hi - lo)
         return mu, c
 
     def covers(self, mu, c):
-        """Where a direction (mu, |cos phi| = c) of the dense side belongs to this part."""
-        if self.kind == "above":
-            return mu >= self.mu_c
-        a_phi = self._a_phi(c)
-        t = 2.0 * blended(mu, a_phi) / blended(self.mu_c, a_phi)
-        here = (mu < self.mu_c) & ((t < 1.0) if self.kind.startswith("grazing") else (t >= 1.0))
-        near = c <= _kink(mu, self.mu_c)
-        return here & (near if self.kind.endswith("near") else ~near)
+        """Where a direction (mu, |cos phi| = c) of the dense side belongs to this part: mu
+        in its segment (the last one closed) and c < k1 ("near"), c > k2 ("far") or between."""
+        here = (mu >= self.lo) & ((mu < self.hi) | (self.hi == 1.0))
+        if self.segment != "plain":
+            a_phi = self._a_phi(c)
+            grazing = 2.0 * blended(mu, a_phi) < blended(self.hi, a_phi)
+            here &= grazing == (self.segment == "grazing")
+        k1, k2 = _kinks(mu, self.mu_c)
+        inside = {"near": c < k1, "mid": (c >= k1) & (c <= k2), "far": c > k2}[self.band]
+        return here & inside
 
 
 def _axis(name: str, n: int, log_scale: float) -> Axis:
     return Axis(name, 0.0, 1.0, n, "log-linear", "cubic", log_scale=log_scale)
 
 
-def _part(kind: str, alpha: float, ratio: float, eta_seen: float, mu_c: float) -> _Part:
-    n_x, n_u = SLICE_NODES[kind]
-    # |cos phi| crowds towards the smooth axis as in "ggx_conductor_anisotropic", u of the
-    # far parts towards k(mu)
-    u_axis = (Axis("u", 0.0, 1.0, n_u, "linear", "cubic") if kind.endswith("near")
-              else _axis("u", n_u, 0.1))
-    x_axis = (_axis("x", n_x, 0.1) if kind in ("outside", "above")
+def _part(segment: str, band: str, alpha: float, ratio: float, eta_seen: float,
+          mu_c: float, lo: float = 0.0, hi: float = 1.0) -> _Part:
+    part = _Part(segment, band, mu_c, alpha, ratio, lo, hi)
+    if segment == "outside":
+        n_x, n_u = SLICE_NODES["outside"]
+    else:
+        nodes = SLICE_NODES["grazing" if segment == "grazing" else "segment"]
+        n_x, n_u = nodes["mu"], nodes[band]
+    # |cos phi| of the light side crowds towards the smooth axis
+    u_axis = (_axis("u", n_u, 0.1) if segment == "outside"
+              else Axis("u", 0.0, 1.0, n_u, "linear", "cubic"))
+    x_axis = (_axis("x", n_x, 0.1) if segment == "outside"
               else Axis("x", 0.0, 1.0, n_x, "linear", "cubic"))
-    axes = (x_axis, u_axis)
-    spec = TableSpec(f"ggx_dielectric_anisotropic[{kind}, alpha={alpha:g}, ratio={ratio:g}, "
-                     f"eta={eta_seen:g}]", axes, ("E_R", "E_T"), None,
+    spec = TableSpec(f"ggx_dielectric_anisotropic[{segment} mu in [{lo:.4g}, {hi:.4g}], "
+                     f"{band}, alpha={alpha:g}, ratio={ratio:g}, eta={eta_seen:g}]",
+                     (x_axis, u_axis), ("E_R", "E_T"), None,
                      "anisotropic_energy.ggx_anisotropic_dielectric_energy", SLICE_ORDER)
-    part = _Part(kind, mu_c, alpha, ratio)
     mu, c = part.directions(*spec.grid())
     a = max(alpha, ALPHA_FLOOR)
     e = ggx_anisotropic_dielectric_energy(mu, np.arccos(np.clip(c, 0.0, 1.0)), a, ratio * a,
                                           eta_seen, SLICE_ORDER, estimate=False)
     values = np.stack([e.reflection, e.transmission], -1).reshape(spec.shape)
-    table = Table(spec, values, np.full(spec.shape, SLICE_NODE_ERROR))
-    return _Part(kind, mu_c, alpha, ratio, table)
+    return replace(part, table=Table(spec, values, np.full(spec.shape, SLICE_NODE_ERROR)))
 
 
 def _average(part: _Part) -> np.ndarray:
@@ -241,6 +310,17 @@ class DielectricSlice:
         """The node error carried to the same points (``Table.error``)."""
         return self._lookup(on_light, mu, cos_phi, True)
 
+    @property
+    def n_nodes(self) -> int:
+        """Nodes of all its tables."""
+        return sum(int(np.prod(part.table.spec.shape[:-1])) for part in self.parts)
+
+    def layout(self) -> list[str]:
+        """Each table as "segment [lo, hi] band: n_mu x n_phi"."""
+        return [f"{p.segment}" + ("" if p.segment == "outside" else
+                                  f" mu in [{p.lo:.3g}, {p.hi:.3g}] {p.band}")
+                + " {} x {}".format(*p.table.spec.shape[:-1]) for p in self.parts]
+
     def average(self, on_light) -> np.ndarray:
         """``(..., 2)`` averages of the side ``on_light``."""
         return np.where(np.asarray(on_light)[..., None], self.average_outside,
@@ -250,7 +330,7 @@ class DielectricSlice:
         on_light, mu, cos_phi = np.broadcast_arrays(on_light, mu, cos_phi)
         out = np.zeros(mu.shape + (2,))
         for part in self.parts:
-            mask = on_light if part.kind == "outside" else ~on_light & part.covers(mu, cos_phi)
+            mask = on_light if part.segment == "outside" else ~on_light & part.covers(mu, cos_phi)
             if np.any(mask):
                 coords = part.coordinates(mu[mask], cos_phi[mask])
                 out[mask] = part.table.error(*coords) if error else part.table(*coords)
@@ -263,8 +343,12 @@ def dielectric_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice:
     and index ratio ``eta`` >= 1 (dense / light)."""
     alpha, ratio, eta = float(alpha), float(ratio), float(eta)
     mu_c = float(np.sqrt(1.0 - 1.0 / (eta * eta)))
-    parts = (_part("outside", alpha, ratio, eta, mu_c),
-             *(_part(kind, alpha, ratio, 1.0 / eta, mu_c) for kind in SLICE_NODES
-               if kind != "outside"))
+    parts = [_part("outside", "outside", alpha, ratio, eta, mu_c)]
+    for segment, lo, hi in _segments(mu_c):
+        bands = ["near"] if hi <= mu_c else []
+        bands += ["mid"] + (["far"] if hi <= np.sqrt(1.0 - mu_c * mu_c) else [])
+        parts += [_part(segment, band, alpha, ratio, 1.0 / eta, mu_c, lo, hi)
+                  for band in bands]
+    parts = tuple(parts)
     inside = sum(_average(part) for part in parts[1:])
     return DielectricSlice(alpha, ratio, eta, parts, _average(parts[0]), inside)
