@@ -87,6 +87,9 @@ _STEPS = 60
 #: an end of nothing in particular
 _GRAZING_EDGE, _CRITICAL_EDGE, _AXIS_EDGE, _KINK_EDGE, _PLAIN_EDGE = 0.01, 0.005, 0.003, 0.02, 0.2
 _EDGES = (_KINK_EDGE, _KINK_EDGE)
+#: log scale of the light side's axis in s = 1 - sqrt(1 - v) (``Axis``: the larger, the more
+#: nodes towards grazing)
+_OUTSIDE_LOG_SCALE = 0.1
 
 
 def _two_sided(t, edges=_EDGES):
@@ -247,7 +250,7 @@ def _part(segment: str, band: str, alpha: float, ratio: float, eta_seen: float,
     # |cos phi| of the light side crowds towards the smooth axis
     u_axis = (_axis("u", n_u, 0.1) if segment == "outside"
               else Axis("u", 0.0, 1.0, n_u, "linear", "cubic"))
-    x_axis = (_axis("x", n_x, 0.1) if segment == "outside"
+    x_axis = (_axis("x", n_x, _OUTSIDE_LOG_SCALE) if segment == "outside"
               else Axis("x", 0.0, 1.0, n_x, "linear", "cubic"))
     spec = TableSpec(f"ggx_dielectric_anisotropic[{segment} mu in [{lo:.4g}, {hi:.4g}], "
                      f"{band}, alpha={alpha:g}, ratio={ratio:g}, eta={eta_seen:g}]",
