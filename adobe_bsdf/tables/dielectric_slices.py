@@ -89,7 +89,7 @@ _GRAZING_EDGE, _CRITICAL_EDGE, _AXIS_EDGE, _KINK_EDGE, _PLAIN_EDGE = 0.01, 0.005
 _EDGES = (_KINK_EDGE, _KINK_EDGE)
 #: log scale of the light side's axis in s = 1 - sqrt(1 - v) (``Axis``: the larger, the more
 #: nodes towards grazing)
-_OUTSIDE_LOG_SCALE = 0.1
+_OUTSIDE_LOG_SCALE = 0.03
 
 
 def _two_sided(t, edges=_EDGES):
