@@ -13,6 +13,8 @@ Sections (each in its module; a failing section is recorded, not fatal):
 * ``throughput``: every registered case, 10^4 / 10^6 / 10^7 pairs (``benchmarks.throughput``);
 * ``active_lobes``: ``Sum`` cost against the number of non-zero weights
   (``benchmarks.active_lobes``);
+* ``materials``: every material case against the summed cost of its lobes, before and after
+  (``benchmarks.material_cost``);
 * ``tradeoff``: speed against accuracy (``benchmarks.tradeoff``, if it imports).
 
 A full run writes ``benchmarks/results.json``, ``docs/performance.md`` and
@@ -30,11 +32,19 @@ import traceback
 from pathlib import Path
 
 import adobe_bsdf  # noqa: F401  (registers the lobes)
-from benchmarks import active_lobes, baseline, chunks, machine, mitsuba_bench, report
+from benchmarks import (
+    active_lobes,
+    baseline,
+    chunks,
+    machine,
+    material_cost,
+    mitsuba_bench,
+    report,
+)
 from benchmarks import throughput as tp
 
 SECTIONS = ("headline", "mitsuba", "baseline", "chunks", "throughput", "active_lobes",
-            "tradeoff")
+            "materials", "tradeoff")
 
 
 def _log(message: str) -> None:
@@ -97,6 +107,7 @@ def main(argv=None) -> dict:
         "chunks": lambda: chunks.run(smoke),
         "throughput": lambda: tp.run(wo, wi, u, smoke, args.extra_seconds, log=_log),
         "active_lobes": lambda: active_lobes.run(wo, wi, u, smoke),
+        "materials": lambda: material_cost.run(smoke, log=_log),
         "tradeoff": lambda: _tradeoff(smoke),
     }
     for name in SECTIONS:

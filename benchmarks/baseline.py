@@ -19,7 +19,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["BASELINE", "run"]
+__all__ = ["BASELINE", "run", "run_script"]
 
 #: the library before the performance work (table lookups moved into lobes/energy_lookup.py)
 BASELINE = "420f74c"
@@ -40,21 +40,29 @@ def _git(*args: str) -> subprocess.CompletedProcess:
                           check=True)
 
 
+def run_script(script: str, revision: str, paths=("adobe_bsdf",)) -> dict:
+    """The JSON that ``script`` (Python run with ``sys.argv[1]`` its output path) writes when
+    run on the folders ``paths`` of ``revision`` beside the current ``benchmarks/``, in a
+    subprocess; raises if git, the revision or the script fails."""
+    commit = _git("rev-parse", "--verify", f"{revision}^{{commit}}").stdout.decode().strip()
+    with tempfile.TemporaryDirectory(prefix="adobe_bsdf_baseline_") as tmp:
+        archive = _git("archive", "--format=tar", commit, *paths).stdout
+        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+        shutil.copytree(ROOT / "benchmarks", Path(tmp) / "benchmarks",
+                        ignore=shutil.ignore_patterns("__pycache__", "results.json"))
+        out = Path(tmp) / "result.json"
+        env = {**os.environ, "PYTHONPATH": tmp}
+        proc = subprocess.run([sys.executable, "-c", script, str(out)],
+                              cwd=tmp, env=env, capture_output=True, text=True, timeout=3600)
+        if proc.returncode != 0:
+            raise RuntimeError(f"the script failed on {revision}:\n{proc.stderr[-4000:]}")
+        return json.loads(out.read_text())
+
+
 def run(smoke: bool = False, revision: str = BASELINE) -> dict:
     """``{"revision", "commit", "subject", "headline"}``: ``throughput.headline`` of the
     library at ``revision``; raises if git or the revision is not available."""
     commit = _git("rev-parse", "--verify", f"{revision}^{{commit}}").stdout.decode().strip()
     subject = _git("log", "-1", "--format=%s", commit).stdout.decode().strip()
-    with tempfile.TemporaryDirectory(prefix="adobe_bsdf_baseline_") as tmp:
-        archive = _git("archive", "--format=tar", commit, "adobe_bsdf").stdout
-        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
-        shutil.copytree(ROOT / "benchmarks", Path(tmp) / "benchmarks",
-                        ignore=shutil.ignore_patterns("__pycache__", "results.json"))
-        out = Path(tmp) / "headline.json"
-        env = {**os.environ, "PYTHONPATH": tmp}
-        proc = subprocess.run([sys.executable, "-c", _SCRIPT.format(smoke=smoke), str(out)],
-                              cwd=tmp, env=env, capture_output=True, text=True, timeout=3600)
-        if proc.returncode != 0:
-            raise RuntimeError(f"baseline headline failed:\n{proc.stderr[-4000:]}")
-        headline = json.loads(out.read_text())
+    headline = run_script(_SCRIPT.format(smoke=smoke), commit)
     return {"revision": revision, "commit": commit, "subject": subject, "headline": headline}

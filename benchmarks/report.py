@@ -469,6 +469,17 @@ def _active(results: dict, figure: str | None) -> list:
     return out + [""]
 
 
+def _materials(results: dict, figure_dir: Path, link_prefix: str, smoke: bool) -> list:
+    section = results.get("materials")
+    out, missing = _opening("Whole materials against their lobes", "Materials", section)
+    if missing:
+        return missing
+    from benchmarks import material_cost
+
+    figure_dir.mkdir(parents=True, exist_ok=True)
+    return [material_cost.markdown(section, figure_dir, smoke, link_prefix)]
+
+
 def _tradeoff(results: dict, figure_dir: Path, smoke: bool) -> list:
     section = results.get("tradeoff")
     if section is None or "error" in section and "settings" not in section:
@@ -500,6 +511,7 @@ def markdown(results: dict, figure_dir: Path, link_prefix: str, smoke: bool) -> 
     out += _threads_table(results) + _chunks(results)
     out += _throughput(results, figures.get("throughput"))
     out += _active(results, figures.get("active_lobes"))
+    out += _materials(results, figure_dir, link_prefix, smoke)
     out += _tradeoff(results, figure_dir, smoke)
     return "\n".join(out).rstrip() + "\n"
 

@@ -1,0 +1,217 @@
+"""Cost model of whole materials: what each material case costs against the standalone cost
+of the lobes it is built from (the ``materials`` section of ``python -m benchmarks``).
+
+Cases (``material_cases``): the default ``AdobeStandardMaterial`` and ``OpenPBRSurface``,
+every registered check case whose lobe is a ``Material`` (``validation.cases.cases()``),
+the OpenPBR preset "everything", and a fully loaded ASM with an isotropic and with an
+anisotropic coat (the pair that prices the anisotropic coat's albedo).
+
+For each case, on the same ``n`` random pairs (``throughput.directions``, seed 0; 2·10^5,
+smoke 2000), all threads, the median of ``runs`` timings (3, smoke 2) of the material's
+``eval``, ``pdf``, ``eval_pdf`` and ``sample``, and of ``eval`` of every lobe in
+``material.lobes`` alone (the active lobes: zero-weight lobes are never built). Times are
+given in *memory passes*: the time of one ``np.add(a, b, out=c)`` over float64 ``(n, 3)``
+arrays, taken per element at 10^6 pairs (where the arrays leave the caches; at 2·10^5 the
+same add runs ~25 % faster per element) times n: the unit of the headline section.
+
+The ratios of the acceptance: eval / Σ lobes' eval, sample / Σ lobes' eval, sample / eval.
+``before`` repeats the measurement on ``BASELINE`` (the library before the material-cost
+work) in a subprocess of the same run (``benchmarks.baseline.run_script``).
+"""
+
+from __future__ import annotations
+
+import time
+
+from benchmarks import throughput as tp
+
+__all__ = ["BASELINE", "CALLS", "material_cases", "measure", "run", "markdown"]
+
+#: the library before the work on whole materials' cost (the "before" column)
+BASELINE = "edb2db5"
+CALLS = ("eval", "pdf", "eval_pdf", "sample")
+#: pairs per call (smoke: 2000) and runs per median
+N, SMOKE_N, RUNS = 200_000, 2_000, 3
+#: the unit's reference size
+UNIT_N = 10**6
+
+_FULL_ASM = {"metallic": 0.3, "translucency": 0.5, "dispersion": 1.0,
+             "anisotropy_level": 0.5, "anisotropy_angle": 0.2, "coat_opacity": 0.7,
+             "coat_color": (0.9, 0.8, 0.6), "sheen_opacity": 0.5, "sheen_roughness": 0.4}
+
+
+def material_cases() -> list:
+    """``[(label, make)]``: the defaults first, then the registered material cases, the
+    OpenPBR preset "everything" and the coat pair."""
+    from adobe_bsdf.materials import AdobeStandardMaterial, OpenPBRSurface, presets
+    from adobe_bsdf.materials.material import Material
+    from adobe_bsdf.validation.cases import cases
+
+    out = [("ASM default", AdobeStandardMaterial), ("OpenPBR default", OpenPBRSurface)]
+    out += [(c.name, c.make) for c in cases() if isinstance(c.make(), Material)]
+    out += [("OpenPBR everything (preset)",
+             lambda: OpenPBRSurface(**presets.openpbr["everything"])),
+            ("ASM fully loaded, isotropic coat", lambda: AdobeStandardMaterial(
+                **_FULL_ASM, coat_roughness=0.3)),
+            ("ASM fully loaded, anisotropic coat", lambda: AdobeStandardMaterial(
+                **_FULL_ASM, coat_roughness=0.3, coat_anisotropy_level=0.5))]
+    return out
+
+
+def _seconds(lobe, call, n, wo, wi, u, runs) -> float:
+    tp._call(lobe, call, wo[:100], wi[:100], u[:100])  # warm-up (tables, caches)
+    return tp._median(lambda: tp.time_call(lobe, call, wo[:n], wi[:n], u[:n]), runs)[0]
+
+
+def measure(n: int, runs: int, log=None) -> dict:
+    """``{"n", "runs", "pass_seconds", "rows"}``: per case, the material's calls and its
+    lobes' ``eval`` in seconds (or the error)."""
+    wo, wi, u = tp.directions(n)
+    unit = tp.memory_pass(UNIT_N, runs)[0] / UNIT_N * n
+    rows = []
+    start = time.perf_counter()
+    for label, make in material_cases():
+        row = {"case": label}
+        try:
+            material = make()
+            row["lobes"] = {name: _seconds(lobe, "eval", n, wo, wi, u, runs)
+                            for name, lobe in material.lobes.items()}
+            for call in CALLS:
+                row[call] = _seconds(material, call, n, wo, wi, u, runs)
+        except Exception as exc:  # reported, not fatal
+            row["error"] = f"{type(exc).__name__}: {exc}"
+        rows.append(row)
+        if log:
+            log(f"{label}: {time.perf_counter() - start:.0f} s")
+    return {"n": n, "runs": runs, "pass_seconds": unit, "rows": rows}
+
+
+_SCRIPT = """
+import json, sys
+from benchmarks import material_cost
+json.dump(material_cost.measure({n}, {runs}), open(sys.argv[1], "w"))
+"""
+
+
+def run(smoke: bool = False, log=None) -> dict:
+    """This library's cost model and ``BASELINE``'s, measured in one run."""
+    from benchmarks import baseline
+
+    n, runs = (SMOKE_N, 2) if smoke else (N, RUNS)
+    after = measure(n, runs, log)
+    try:
+        before = baseline.run_script(_SCRIPT.format(n=n, runs=runs), BASELINE,
+                                     ("adobe_bsdf", "tables"))
+    except Exception as exc:  # git or the old library unavailable: said in the page
+        before = {"error": f"{type(exc).__name__}: {exc}"}
+    return {**after, "before": before}
+
+
+# --- the page ------------------------------------------------------------------------------
+def _passes(section: dict, seconds) -> float:
+    return seconds / section["pass_seconds"]
+
+
+def summary(section: dict) -> list:
+    """Per measured case: ``(label, k, lobes, {call: passes}, {ratio: value})``."""
+    out = []
+    for row in section["rows"]:
+        if "error" in row:
+            continue
+        lobes = _passes(section, sum(row["lobes"].values()))
+        calls = {c: _passes(section, row[c]) for c in CALLS}
+        ratios = {"eval / lobes": calls["eval"] / lobes, "sample / lobes":
+                  calls["sample"] / lobes, "sample / eval": calls["sample"] / calls["eval"]}
+        out.append((row["case"], len(row["lobes"]), lobes, calls, ratios))
+    return out
+
+
+#: the acceptance bounds of the ratios
+BOUNDS = {"eval / lobes": 1.5, "sample / lobes": 2.5, "sample / eval": 2.0}
+
+
+def _plot(plt, section: dict, path) -> bool:
+    rows = summary(section)
+    before = {r[0]: r for r in summary(section["before"])} if "rows" in section.get(
+        "before", {}) else {}
+    if not rows:
+        return False
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    jitter = {}
+    for label, k, lobes, calls, _ in rows:
+        x = k + 0.06 * jitter.setdefault(k, 0) - 0.15
+        jitter[k] += 1
+        ax.plot([x], [lobes], "k_", ms=10)
+        ax.plot([x], [calls["eval"]], "o", color="C0", ms=4)
+        ax.plot([x], [calls["sample"]], "s", color="C1", ms=4)
+        if label in before:
+            ax.plot([x, x], [before[label][3]["sample"], calls["sample"]], "-", color="C1",
+                    alpha=0.25)
+            ax.plot([x], [before[label][3]["sample"]], "s", color="C1", ms=4, alpha=0.25)
+    ax.plot([], [], "k_", ms=10, label="Σ active lobes' eval")
+    ax.plot([], [], "o", color="C0", label="material eval")
+    ax.plot([], [], "s", color="C1", label="material sample")
+    if before:
+        ax.plot([], [], "s", color="C1", alpha=0.25, label=f"sample before ({BASELINE})")
+    ax.set_yscale("log")
+    ax.set_xlabel("active lobes (entries of material.lobes)")
+    ax.set_ylabel(f"memory passes ({section['n']:,} pairs)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def markdown(section: dict, figure_dir, smoke: bool, link_prefix: str = "figures/") -> str:
+    """The page's section "Whole materials against their lobes"."""
+    from benchmarks import pyplot
+
+    out = ["## Whole materials against their lobes", ""]
+    if "rows" not in section:
+        return "\n".join(out + [f"materials section failed: {section.get('error')}", ""])
+    out += [f"Every material case on the same {section['n']:,} pairs, all threads, median of "
+            f"{section['runs']} runs, in memory passes (one `np.add` over (n, 3) float64 "
+            "arrays, per element as at 10^6 pairs, times n). *Σ lobes*: the sum of `eval` "
+            "of every lobe in `material.lobes` timed alone on the same pairs (the active "
+            "lobes; lobes whose weight is zero are never built). Method: "
+            "`benchmarks/material_cost.py`.", ""]
+    plt = pyplot()
+    name = "performance_materials.png"
+    if plt is not None and _plot(plt, section, figure_dir / name):
+        out += [f"![materials]({link_prefix}{name})", ""]
+    before = section.get("before", {})
+    old = {r[0]: r for r in summary(before)} if "rows" in before else {}
+    out += ["| case | lobes | Σ lobes | eval | pdf | eval_pdf | sample | eval / Σ | "
+            "sample / Σ | sample / eval | before: eval, sample |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
+    rows = summary(section)
+    for label, k, lobes, calls, ratios in rows:
+        was = old.get(label)
+        then = f"{was[3]['eval']:.0f}, {was[3]['sample']:.0f}" if was else "–"
+        out.append(f"| {label} | {k} | {lobes:.0f} | "
+                   + " | ".join(f"{calls[c]:.0f}" for c in CALLS) + " | "
+                   + " | ".join(f"{ratios[r]:.2f}" for r in BOUNDS) + f" | {then} |")
+    errors = [r for r in section["rows"] if "error" in r]
+    if errors:
+        out += [""] + [f"- {r['case']}: {r['error']}" for r in errors]
+    if "rows" not in before:
+        out += ["", f"Before ({BASELINE}): not measured ({before.get('error')})."]
+    else:
+        out += ["", f"*Before*: the library at {BASELINE} (before this work), the same code "
+                "timing it in a subprocess of this run."]
+    out += ["", "Bounds: " + "; ".join(
+        f"{r} ≤ {b}: met by {sum(x[4][r] <= b for x in rows)} of {len(rows)} cases"
+        for r, b in BOUNDS.items()) + "."]
+    by = {r[0]: r for r in rows}
+    iso, aniso = (by.get(f"ASM fully loaded, {c} coat") for c in ("isotropic", "anisotropic"))
+    if iso and aniso:
+        out.append(f"The anisotropic coat costs {aniso[3]['eval'] / iso[3]['eval']:.2f}× the "
+                   f"isotropic coat in eval and {aniso[3]['sample'] / iso[3]['sample']:.2f}× "
+                   "in sample (bound 2).")
+    defaults = [f"{k} {by[k][3]['eval']:.0f} passes" for k in ("ASM default", "OpenPBR default")
+                if k in by]
+    if defaults:
+        out.append("Default materials' eval: " + ", ".join(defaults) + " (bound 40).")
+    return "\n".join(out + [""])
