@@ -269,3 +269,22 @@ def test_media_report_writes_its_page(tmp_path):
                     "The ASM's and OpenPBR's media for the same inputs"):
         assert f"## {section}" in text
     assert "| 0.5 | 0.5 | normal |" in text
+
+
+def test_material_cost(smoke):
+    """Every material case measured (material calls and each active lobe alone), before and
+    after, and the section and its plot in the page."""
+    out, results, text = smoke
+    from benchmarks import material_cost
+
+    section = results["materials"]
+    assert "error" not in section, section.get("error")
+    labels = [label for label, _ in material_cost.material_cases()]
+    assert [r["case"] for r in section["rows"]] == labels
+    for row in section["rows"]:
+        assert "error" not in row, row
+        assert row["lobes"] and all(t > 0 for t in row["lobes"].values()), row
+        assert all(row[call] > 0 for call in material_cost.CALLS), row
+    assert section["pass_seconds"] > 0
+    assert "rows" in section["before"], section["before"].get("error")
+    assert "## Whole materials against their lobes" in text and "sample / eval" in text

@@ -148,11 +148,14 @@ def grey(value):
 def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, **params):
     """``(value, error)`` of table ``name`` (summed over its output channels, or output
     ``channel`` alone) at ``mu`` and its other axes' ``params`` (in the table's axis order);
-    error None unless ``with_error``. Scalar ``params`` use the table fixed at them
-    (``Table.fix``, cached): the same interpolant at 4 gathers per lookup."""
+    error None unless ``with_error``. The scalar ``params`` are fixed (``Table.fix``, cached):
+    the same interpolant at 4 gathers per lookup and remaining cubic axis (4^d with every
+    axis), equal to the full lookup to rounding."""
     mu = np.minimum(mu, 1.0)  # |w| = 1 within rounding: a cosine may exceed 1 by an ulp
-    if all(np.ndim(v) == 0 for v in params.values()):
-        table, coords = _fixed(name, **{k: float(v) for k, v in params.items()}), (mu,)
+    fixed = {k: float(v) for k, v in params.items() if np.ndim(v) == 0}
+    if fixed:
+        table = _fixed(name, **fixed)
+        coords = (mu, *(v for v in params.values() if np.ndim(v)))
     else:
         table, coords = tables.get(name), (mu, *params.values())
 

@@ -3,12 +3,15 @@ a conductor's, and a dielectric interface's reflection alone."""
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from adobe_bsdf import quadrature
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.fresnel import ExactDielectric, Fresnel, FresnelFunction
 from adobe_bsdf.lobes.energy_lookup import (
+    anisotropic_coordinates,
     checked_ratio,
     conductor_energy,
     exact_anisotropic,
@@ -20,6 +23,8 @@ from adobe_bsdf.lobes.energy_lookup import (
     table_alpha,
 )
 from adobe_bsdf.microfacet import distribution, saturated
+from adobe_bsdf.tables.anisotropic_energy import projected_alpha, unblended
+from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
 __all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection", "ReferencedReflection"]
 
@@ -301,11 +306,26 @@ class DielectricReflection(MicrofacetReflection):
         """The table where isotropic; where anisotropic, the table at sqrt(alpha_x alpha_y)
         misses the true albedo by up to ~0.04 at grazing angles (either way), so a layer
         under it would gain energy: there E is ``quadrature.sampled_albedo`` (32 x 32
-        visible normals per distinct ``wo``), or, built exact, the slice's."""
+        visible normals per direction), interpolated from ``TOP_ALBEDO_AXES`` nodes in
+        (v, |cos phi|) of ``anisotropic_coordinates`` computed once per lobe
+        (``_top_table``; textured parameters: the rule at every distinct ``wo``), or, built
+        exact, the slice's."""
         d = self.distribution
         if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.exact:
             return super()._top_albedo(wo)
-        return quadrature.sampled_albedo(self, wo)
+        if self._param_shape() != ():
+            return quadrature.sampled_albedo(self, wo)
+        v, cos_phi, _, _ = anisotropic_coordinates(d, wo, blend=True)
+        return grey(np.where(wo[..., 2] > 0.0, self._top_table()(v, cos_phi)[..., 0], 0.0))
+
+    def _top_table(self) -> Table:
+        """The (v, |cos phi|) table of ``quadrature.sampled_albedo`` of this anisotropic
+        lobe with scalar parameters, built on first use (~0.4 s) and kept."""
+        with _TOP_LOCK:
+            table = self.__dict__.get("_top")
+            if table is None:
+                table = self.__dict__["_top"] = _top_table(self)
+        return table
 
     def _albedo_table(self, wo, with_error=True):
         alpha, ratio = table_alpha(self.distribution), checked_ratio(self.eta)
@@ -313,12 +333,18 @@ class DielectricReflection(MicrofacetReflection):
         light = sides(self.eta)[0]
         # exact anisotropic elements read their slices below: none integrates here
         aniso = is_anisotropic(self.distribution) if self.exact else np.False_
+        sides_seen = (("ggx_dielectric_outside", ratio, light),
+                      ("ggx_dielectric_inside", 1.0 / ratio, ~light))
+        if np.ndim(light) == 0:  # one index: only its side's table
+            sides_seen = [side for side in sides_seen if side[2]]
         parts = [reflected_energy(name, mu, alpha, ratio, {"alpha": alpha, "eta": ratio}, seen,
                                   with_error, where & ~aniso)
-                 for name, seen, where in (("ggx_dielectric_outside", ratio, light),
-                                           ("ggx_dielectric_inside", 1.0 / ratio, ~light))]
-        E = np.where(light, parts[0][0], parts[1][0])
-        error = np.where(light, parts[0][1], parts[1][1]) if with_error else None
+                 for name, seen, where in sides_seen]
+        if len(parts) == 1:
+            E, error = parts[0]
+        else:
+            E = np.where(light, parts[0][0], parts[1][0])
+            error = np.where(light, parts[0][1], parts[1][1]) if with_error else None
         up = wo[..., 2] > 0.0
         E = grey(np.where(up, E, 0.0))
         error = grey(None if error is None else np.where(up, error, 0.0))
@@ -334,3 +360,32 @@ class DielectricReflection(MicrofacetReflection):
             E = np.where(smooth, self._delta_albedo(wo), E)
             error = None if error is None else np.where(smooth, 0.0, error)
         return E, error
+
+
+#: the nodes of an anisotropic ``DielectricReflection``'s albedo as a layer's top: the
+#: blended coordinate v and |cos phi| of ``energy_lookup.anisotropic_coordinates``, as the
+#: Fresnel moments' table (``tables.catalog``), log-spaced towards the smooth axis
+TOP_ALBEDO_AXES = (Axis("v", 0.0, 1.0, 48, "log-linear", "cubic"),
+                   Axis("cos_phi", 0.0, 1.0, 32, "log-linear", "cubic", log_scale=0.3))
+_TOP_LOCK = threading.Lock()
+#: the cosine standing for the limit mu -> 0+ at the nodes v = 0
+_MU_LIMIT = 1e-9
+
+
+def _top_table(lobe: DielectricReflection) -> Table:
+    """``quadrature.sampled_albedo`` of ``lobe`` (scalar parameters, anisotropic) at the
+    ``TOP_ALBEDO_AXES`` nodes, as a table (no node error: 0)."""
+    spec = TableSpec(f"top albedo of {lobe!r}", TOP_ALBEDO_AXES, ("E_R",), compute=None,
+                     quadrature="quadrature.sampled_albedo, 32 x 32 Gauss-Legendre")
+    v, cos_phi = spec.grid()
+    d = lobe.distribution
+    alpha = max(float(d.alpha_x), float(d.alpha_y))
+    ratio = min(float(d.alpha_x), float(d.alpha_y)) / alpha
+    # at v = 0 the limit mu -> 0+ (the lobe reflects nothing at mu = 0 itself, the
+    # lookup's case): the albedo is flat below mu ~ 1e-5 a
+    mu = np.maximum(unblended(v, projected_alpha(cos_phi, alpha, ratio)), _MU_LIMIT)
+    sin_theta = np.sqrt(1.0 - mu * mu)
+    along, across = sin_theta * cos_phi, sin_theta * np.sqrt(1.0 - cos_phi * cos_phi)
+    x, y = (along, across) if d.alpha_x >= d.alpha_y else (across, along)
+    E = quadrature.sampled_albedo(lobe, np.stack([x, y, mu], -1))[:, :1]
+    return Table(spec, E.reshape(spec.shape), np.zeros(spec.shape))

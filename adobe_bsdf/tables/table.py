@@ -162,13 +162,17 @@ class Axis:
              -1.5 * t3 + 2.0 * t2 + 0.5 * t, 0.5 * t3 - 0.5 * t2]
         # ghost nodes by quadratic extrapolation, f(-1) = 3 f0 - 3 f1 + f2 (and mirrored at
         # the end), folded into a stencil shifted inside the table
-        first, last = i == 0, i == self.n - 2
-        if np.any(first) or np.any(last):
-            wm, w0, w1, w2 = w
-            at_first = (w0 + 3 * wm, w1 - 3 * wm, w2 + wm, 0.0)
-            at_last = (0.0, wm + w2, w0 - 3 * w2, w1 + 3 * w2)
-            w = [np.where(first, a, np.where(last, b, c))
-                 for a, b, c in zip(at_first, at_last, w, strict=True)]
+        # (set where needed only: the same values as selecting over the whole batch)
+        for edge, folded in ((i == 0, _fold_first), (i == self.n - 2, _fold_last)):
+            if np.ndim(edge) == 0:
+                if edge:
+                    w = [np.asarray(x, dtype=np.float64) for x in folded(w)]
+                continue
+            at = np.flatnonzero(edge)
+            if len(at):  # the weights are fresh contiguous arrays of t's shape
+                values = folded([x.reshape(-1)[at] for x in w])
+                for x, value in zip(w, values, strict=True):
+                    x.reshape(-1)[at] = value
         return np.clip(i - 1, 0, self.n - 4), w
 
     def average_weights(self, order: int = 8) -> np.ndarray:
@@ -198,6 +202,19 @@ class Axis:
         if self.parameterisation == "log-linear" and self.log_scale != LOGLIN_C:
             out["log_scale"] = self.log_scale
         return out
+
+
+def _fold_first(w):
+    """Catmull–Rom weights at the first cell with the ghost node f(-1) = 3 f0 - 3 f1 + f2
+    folded into a stencil shifted one node inside the table."""
+    wm, w0, w1, w2 = w
+    return (w0 + 3 * wm, w1 - 3 * wm, w2 + wm, 0.0 * wm)
+
+
+def _fold_last(w):
+    """The same at the last cell (ghost f(n) = 3 f_{n-1} - 3 f_{n-2} + f_{n-3})."""
+    wm, w0, w1, w2 = w
+    return (0.0 * w2, wm + w2, w0 - 3 * w2, w1 + 3 * w2)
 
 
 #: largest |re-baked - stored| ``bake --check`` accepts by default
