@@ -169,6 +169,10 @@ HOOKS = (
          "_pdf for a path of throughput (..., 3) (a lobe that picks channels by it)"),
     Hook("_eval_pdf_t", ("wo", "wi", "throughput"), "pair", "(_eval, _pdf_t)"),
     Hook("_sample_t", ("wo", "u", "throughput"), "sample", "_sample for a path of throughput"),
+    Hook("_sample_directions", ("wo", "u", "throughput"), "sample",
+         "_sample_t with the weights of delta samples only (0 elsewhere; wi, pdf and flags "
+         "the same): what a mixture needs of a component, as it weighs the others by the "
+         "whole mixture"),
     Hook("_delta_albedo", ("wo",), "rgb",
          "energy (..., 3) of the delta branches, on which _eval is 0 (0 without)"),
     Hook("_albedo_table", ("wo", "with_error"), "albedo",
@@ -383,6 +387,11 @@ class Lobe(_params.Validated):
         """``_sample`` for a path of ``throughput`` ``(..., 3)`` (see ``sample``)."""
         return self._sample(wo, u)
 
+    def _sample_directions(self, wo, u, throughput):
+        """``_sample_t`` whose non-delta weights may be 0: a lobe that can skip computing
+        them (f and its ratio to the pdf) overrides this."""
+        return self._sample_t(wo, u, throughput)
+
     def _albedo_quadrature(self, wo, tol):
         """``(value, error)`` of ``albedo(method="quadrature")``."""
         return quadrature.albedo(self, wo, tol=tol)
@@ -478,8 +487,11 @@ def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
 
 def finished_sample(wi, weight, pdf, flags) -> BSDFSample:
     """The ``BSDFSample`` of a sampler's raw arrays, with the failed elements (no flags, or
-    pdf 0) zeroed as the protocol requires."""
+    pdf 0) zeroed as the protocol requires; ``weight`` None is 0 (``_sample_directions`` of
+    a lobe without delta samples)."""
     ok = (flags != int(Flags.NONE)) & (pdf > 0.0)
+    if weight is None:
+        weight = np.broadcast_to(0.0, ok.shape + (3,))
     return BSDFSample(
         wi=np.where(ok[..., None], wi, 0.0),
         weight=np.where(ok[..., None], weight, 0.0),

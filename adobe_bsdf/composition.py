@@ -271,31 +271,38 @@ class Sum(Lobe):
         return self._sample_t(wo, u, None)
 
     def _sample_t(self, wo, u, throughput):
+        if not self.components:
+            return self._sample_directions(wo, u, throughput)
+        s, wo, P = self._drawn(wo, u, throughput)  # failed samples zeroed at the end
+        delta = (s.flags & int(Flags.DELTA)) != 0
+        f, mix_pdf = self._eval_pdf_t(wo, s.wi, throughput, P)
+        smooth_weight = f * np.abs(s.wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf,
+                                                              1.0)[..., None]
+        weight = np.where(delta[..., None], s.weight,
+                          np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
+        return finished_sample(s.wi, weight, np.where(delta, s.pdf, mix_pdf), s.flags)
+
+    def _sample_directions(self, wo, u, throughput):
         batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
         if not self.components:
             return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
                               np.full(batch, int(Flags.NONE)))
+        return finished_sample(*self._drawn(wo, u, throughput)[0])
+
+    def _drawn(self, wo, u, throughput):
+        """``(sample, wo, P)``: the components' ``_sample_directions`` for the elements that
+        chose them, delta samples weighted (by 1 / P_k) and their pdf P_k pdf_k, the others
+        with weight 0 and their component's pdf (failed samples not zeroed); ``wo``
+        broadcast to the batch and P the probabilities."""
+        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
         wo = np.broadcast_to(wo, batch + (3,))  # one wo for a batch of uniforms
         P = self._probabilities(wo)
         k, Pk, u = choose(P, u)
-        wi = np.zeros(batch + (3,))
-        weight = np.zeros(batch + (3,))
-        pdf = np.zeros(batch)
-        flags = np.full(batch, int(Flags.NONE))
-        for j, w in enumerate(self.weights):
-            chosen = k == j
-            s = sample_where(self.components[j], wo, u, throughput, chosen)
-            sw = s.weight if w is None else s.weight * w
-            wi = np.where(chosen[..., None], s.wi, wi)
-            weight = np.where(chosen[..., None], sw, weight)
-            pdf = np.where(chosen, s.pdf, pdf)
-            flags = np.where(chosen, s.flags, flags)
+        wi, weight, pdf, flags = _chosen_samples(self.components, k, wo, u, throughput,
+                                                 self.weights)
         delta = (flags & int(Flags.DELTA)) != 0
-        f, mix_pdf = self._eval_pdf_t(wo, wi, throughput, P)
-        smooth_weight = f * np.abs(wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf, 1.0)[..., None]
-        weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None],
-                          np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
-        return finished_sample(wi, weight, np.where(delta, Pk * pdf, mix_pdf), flags)
+        weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None], 0.0)
+        return BSDFSample(wi, weight, np.where(delta, Pk * pdf, pdf), flags), wo, P
 
     def _delta_albedo(self, wo):
         return self._total(self._terms("_delta_albedo", wo), wo.shape[:-1] + (3,))
@@ -651,25 +658,36 @@ class Layer(Lobe):
         return self._sample_t(wo, u, None)
 
     def _sample_t(self, wo, u, throughput):
+        s, wo, scaled_top, P = self._drawn(wo, u, throughput)  # failures zeroed at the end
+        delta = (s.flags & int(Flags.DELTA)) != 0
+        f, pdf = self._eval_pdf_t(wo, s.wi, throughput, scaled_top, P)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            weight = f * np.abs(s.wi[..., 2:3]) / pdf[..., None]
+        weight = np.where(delta[..., None], s.weight, weight)
+        return finished_sample(s.wi, weight, np.where(delta, s.pdf, pdf), s.flags)
+
+    def _sample_directions(self, wo, u, throughput):
+        return finished_sample(*self._drawn(wo, u, throughput)[0])
+
+    def _drawn(self, wo, u, throughput):
+        """``(sample, wo, (scaled, E_top), P)`` as ``Sum._drawn``: the top's or the base's
+        ``_sample_directions``, delta samples weighted by their share over P_k."""
         batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
         wo = np.broadcast_to(wo, batch + (3,))
         scaled, E_top = self._scaled(wo)
         P = self._probabilities(wo, scaled, E_top)
         k, P_k, u = choose(P, u)
-        s_top = sample_where(self.top, wo, u, throughput, k == 0)
-        s_base = sample_where(self.base, wo, u, throughput, k == 1)
-        top = (k == 0)[..., None]
-        wi = np.where(top, s_top.wi, s_base.wi)
-        flags = np.where(k == 0, s_top.flags, s_base.flags)
+        wi, weight, pdf, flags = _chosen_samples((self.top, self.base), k, wo, u, throughput)
         delta = (flags & int(Flags.DELTA)) != 0
-        f, pdf = self._eval_pdf_t(wo, wi, throughput, (scaled, E_top), P)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            weight = f * np.abs(wi[..., 2:3]) / pdf[..., None]
-            own = np.where(top, self.coverage[..., None] * s_top.weight,
-                           self._weight(wo, wi, scaled) * s_base.weight) / P_k[..., None]
-        weight = np.where(delta[..., None], own, weight)
-        pdf = np.where(delta, P_k * np.where(k == 0, s_top.pdf, s_base.pdf), pdf)
-        return finished_sample(wi, weight, pdf, flags)
+        if np.any(delta):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                own = np.where((k == 0)[..., None], self.coverage[..., None] * weight,
+                               self._weight(wo, wi, scaled) * weight) / P_k[..., None]
+            weight = np.where(delta[..., None], own, 0.0)
+        else:  # (a component's default _sample_directions weighs every sample)
+            weight = np.zeros_like(weight)
+        sample = BSDFSample(wi, weight, np.where(delta, P_k * pdf, pdf), flags)
+        return sample, wo, (scaled, E_top), P
 
     def _delta_albedo(self, wo):
         scaled, E_top = self._scaled(wo)
@@ -944,14 +962,55 @@ def choose(P, u):
     ``u.shape[:-1]``.
     """
     batch = np.broadcast_shapes(P.shape[1:], u.shape[:-1])
-    P = np.broadcast_to(P, P.shape[:1] + batch)
-    cdf = np.cumsum(P, axis=0)
-    k = np.minimum((u[..., 0] >= cdf[:-1]).sum(axis=0), len(P) - 1)
-    lo = np.where(k > 0, np.take_along_axis(cdf, np.maximum(k - 1, 0)[None], 0)[0], 0.0)
-    Pk = np.take_along_axis(P, k[None], 0)[0]
-    u0 = np.clip((u[..., 0] - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0, np.nextafter(1.0, 0))
-    u = np.concatenate([u0[..., None], np.broadcast_to(u[..., 1:], batch + (2,))], axis=-1)
-    return k, Pk, u
+    u0 = u[..., 0]
+    # interval j is [cdf_{j-1}, cdf_j), cdf_j = P_0 + ... + P_j summed in order (the last
+    # one open: rounding may leave cdf_{K-1} below 1)
+    k = np.zeros(batch, dtype=np.intp)
+    lo, Pk = np.zeros(batch), np.broadcast_to(P[0], batch)
+    cdf = P[0]
+    for j in range(1, len(P)):
+        beyond = u0 >= cdf
+        k += beyond
+        lo = np.where(beyond, cdf, lo)
+        Pk = np.where(beyond, P[j], Pk)
+        cdf = cdf + P[j]
+    out = np.empty(batch + (3,))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out[..., 0] = np.clip((u0 - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0,
+                              np.nextafter(1.0, 0))
+    out[..., 1:] = u[..., 1:]
+    return k, np.array(Pk), out
+
+
+def _chosen_samples(components, k, wo, u, throughput, weights=None):
+    """``(wi, weight, pdf, flags)`` of every element sampled by the component ``k`` it chose
+    (``_sample_directions``; weights times ``weights[k]`` where given), zero where the
+    component failed. Where the parameters and weights are scalars and the batch flat, each
+    component runs on the elements that chose it, written into the outputs in place."""
+    batch = k.shape
+    weights = [None] * len(components) if weights is None else weights
+    flat = (wo.ndim == 2 and u.ndim == 2 and all(c._param_shape() == () for c in components)
+            and all(w is None or w.shape[:-1] == () for w in weights))
+    wi, weight = np.zeros(batch + (3,)), np.zeros(batch + (3,))
+    pdf, flags = np.zeros(batch), np.full(batch, int(Flags.NONE))
+    for j, (c, w) in enumerate(zip(components, weights, strict=True)):
+        if not flat:
+            chosen = k == j
+            s = c._sample_directions(wo, u, throughput)
+            wi = np.where(chosen[..., None], s.wi, wi)
+            weight = np.where(chosen[..., None], s.weight if w is None else s.weight * w,
+                              weight)
+            pdf = np.where(chosen, s.pdf, pdf)
+            flags = np.where(chosen, s.flags, flags)
+            continue
+        index = np.flatnonzero(k == j)
+        if not len(index):
+            continue
+        t = None if throughput is None else np.broadcast_to(throughput, u.shape)[index]
+        s = c._sample_directions(wo[index], u[index], t)
+        wi[index], pdf[index], flags[index] = s.wi, s.pdf, s.flags
+        weight[index] = s.weight if w is None else s.weight * w
+    return wi, weight, pdf, flags
 
 
 def sample_where(lobe: Lobe, wo, u, throughput, chosen) -> BSDFSample:

@@ -154,8 +154,9 @@ def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, 
     mu = np.minimum(mu, 1.0)  # |w| = 1 within rounding: a cosine may exceed 1 by an ulp
     fixed = {k: float(v) for k, v in params.items() if np.ndim(v) == 0}
     if fixed:
-        table = _fixed(name, **fixed)
+        table = _fixed(name, channel, **fixed)
         coords = (mu, *(v for v in params.values() if np.ndim(v)))
+        channel = None if channel is None else 0
     else:
         table, coords = tables.get(name), (mu, *params.values())
 
@@ -166,8 +167,15 @@ def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, 
 
 
 @functools.lru_cache(maxsize=512)
-def _fixed(name: str, **fixed):
-    return tables.get(name).fix(**fixed)
+def _fixed(name: str, channel: int | None, **fixed) -> Table:
+    """Table ``name`` fixed at the scalar axes ``fixed``, its output ``channel`` alone
+    (None: all)."""
+    table = tables.get(name).fix(**fixed)
+    if channel is None:
+        return table
+    keep = slice(channel, channel + 1)
+    spec = dataclasses.replace(table.spec, outputs=table.spec.outputs[keep])
+    return Table(spec, table.values[..., keep], table.errors[..., keep], table.meta)
 
 
 def _where(mask, value, fill):

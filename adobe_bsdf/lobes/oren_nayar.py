@@ -226,6 +226,13 @@ class EnergyPreservingOrenNayar(SupportLobe):
 
     # -- sampling ---------------------------------------------------------------------------------
     def _sample(self, wo, u):
+        return self._drawn(wo, u, weigh=True)
+
+    def _sample_directions(self, wo, u, throughput):
+        return self._drawn(wo, u, weigh=False)
+
+    def _drawn(self, wo, u, weigh: bool):
+        """The sample; without ``weigh`` its weight is 0 (``_sample_directions``)."""
         sigma = self.roughness
         mu_o = np.clip(wo[..., 2], 0.0, 1.0)
         a, b, c, d = _ltc(mu_o, sigma)
@@ -257,9 +264,10 @@ class EnergyPreservingOrenNayar(SupportLobe):
         ok = self._support(wo, wi)
         shape = np.broadcast_shapes(ok.shape, self._param_shape())
         ok = np.broadcast_to(ok, shape)
-        f, pdf = self._f(wo, wi, ok), self._p(wo, wi, ok)
-        with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: failed, zeroed below
-            weight = f * (wi[..., 2] / pdf)[..., None]
+        pdf, weight = self._p(wo, wi, ok), None
+        if weigh:
+            with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: failed, zeroed below
+                weight = self._f(wo, wi, ok) * (wi[..., 2] / pdf)[..., None]
         return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------------

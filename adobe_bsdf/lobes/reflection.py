@@ -157,6 +157,15 @@ class MicrofacetReflection(SupportLobe):
             return self._f(wo, wi, up, D, length2, s_o), pdf
 
     def _sample(self, wo, u):
+        return self._drawn(wo, u, weigh=True)
+
+    def _sample_directions(self, wo, u, throughput):
+        # the weight where a sample can be a delta (a smooth element)
+        return self._drawn(wo, u, weigh=bool(np.any(self.distribution.smooth)))
+
+    def _drawn(self, wo, u, weigh: bool):
+        """The sample; without ``weigh`` (no element smooth) its weight is 0
+        (``_sample_directions``)."""
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
         mx, my, mz = d.sample_visible_xyz(ox, oy, oz, u[..., 1], u[..., 2])
@@ -166,14 +175,17 @@ class MicrofacetReflection(SupportLobe):
         iz = wi[..., 2]
         ok = (oz > 0.0) & (iz > 0.0) & (cos_om > 0.0)
         smooth = np.broadcast_to(d.smooth, ok.shape)
+        weight = None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, oz)
-            s_i = d.projected(wi[..., 0], wi[..., 1], iz)
             D = d.D_of_sum(mx, my, mz, 1.0)
             pdf = np.where(smooth, 1.0, self._p(wo, ok, D, s_o))
-            g = np.where(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
-        F = self._F2(cos_om * cos_om)
-        weight = np.repeat(g[..., None], 3, axis=-1) if F is None else F * g[..., None]
+            if weigh:
+                s_i = d.projected(wi[..., 0], wi[..., 1], iz)
+                g = np.where(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
+        if weigh:
+            F = self._F2(cos_om * cos_om)
+            weight = np.repeat(g[..., None], 3, axis=-1) if F is None else F * g[..., None]
         flags = np.where(smooth, int(Flags.REFLECTION | Flags.DELTA),
                          int(Flags.REFLECTION | Flags.GLOSSY))
         return finished_sample(wi, weight, pdf, np.where(ok, flags, int(Flags.NONE)))

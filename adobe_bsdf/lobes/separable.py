@@ -49,14 +49,24 @@ class Separable(Lobe):
         return np.where(self._support(wo, wi), p * np.abs(wi[..., 2]) / np.pi, 0.0)
 
     def _sample(self, wo, u):
+        return self._drawn(wo, u, weigh=True)
+
+    def _sample_directions(self, wo, u, throughput):
+        return self._drawn(wo, u, weigh=False)
+
+    def _drawn(self, wo, u, weigh: bool):
+        """The sample; without ``weigh`` its weight is 0 (``_sample_directions``)."""
         local = cosine_hemisphere(u[..., 1:3])
         stay = u[..., 0] < self._reflect_probability(wo)
         side = np.where(wo[..., 2] < 0.0, -1.0, 1.0) * np.where(stay, 1.0, -1.0)
         wi = _mirror_z(local, side)
         pdf = self._pdf(wo, wi)
         ok = pdf > 0.0
-        weight = self._eval(wo, wi) * (np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))[..., None]
+        weight = (self._eval(wo, wi) * (np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))[..., None]
+                  if weigh else None)
         flags = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
                                               int(Flags.REFLECTION), int(Flags.TRANSMISSION))
-        pdf = np.broadcast_to(pdf, weight.shape[:-1])
-        return finished_sample(wi, weight, pdf, np.broadcast_to(flags, pdf.shape))
+        if weigh:
+            pdf = np.broadcast_to(pdf, weight.shape[:-1])
+        return finished_sample(wi, weight, pdf, np.broadcast_to(flags, np.broadcast_shapes(
+            flags.shape, pdf.shape)))

@@ -169,6 +169,13 @@ class Sheen(SupportLobe):
 
     # -- sampling ---------------------------------------------------------------------------
     def _sample(self, wo, u):
+        return self._drawn(wo, u, weigh=True)
+
+    def _sample_directions(self, wo, u, throughput):
+        return self._drawn(wo, u, weigh=False)
+
+    def _drawn(self, wo, u, weigh: bool):
+        """The sample; without ``weigh`` its weight is 0 (``_sample_directions``)."""
         r = self.roughness
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
         s_o = self._sigma(wo)
@@ -190,9 +197,10 @@ class Sheen(SupportLobe):
             ok = (oz > 0.0) & (r > 0.0) & (norm > 0.0) & (wi[..., 2] > 0.0)
             wi = np.where(ok[..., None], wi, np.array([0.0, 0.0, 1.0]))
             iz = wi[..., 2]
-            pdf = self._p(wo, ok, self._D(wo, wi))
-            e, K = self._shadowing(np.where(ok, oz, 1.0), iz, s_o, self._sigma(wi))
-            weight = self._scale * np.where(ok, s_o * iz * e / K, 0.0)[..., None]
+            pdf, weight = self._p(wo, ok, self._D(wo, wi)), None
+            if weigh:
+                e, K = self._shadowing(np.where(ok, oz, 1.0), iz, s_o, self._sigma(wi))
+                weight = self._scale * np.where(ok, s_o * iz * e / K, 0.0)[..., None]
         return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------

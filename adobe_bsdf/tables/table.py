@@ -357,19 +357,22 @@ class Table:
         base = None  # flat index of every lookup's first stencil node
         for (start, _), stride in zip(stencils, strides, strict=True):
             base = start * stride if base is None else base + start * stride
-        flat = data.reshape(-1, data.shape[-1])
+        single = data.shape[-1] == 1  # one output: gathers from a flat array
+        flat = data.reshape(-1) if single else data.reshape(-1, data.shape[-1])
         out = None
         for corner in itertools.product(*(range(len(w)) for _, w in stencils)):
             offset, weight = 0, None
             for c, stride, (_, w) in zip(corner, strides, stencils, strict=True):
                 offset += c * stride
                 weight = w[c] if weight is None else weight * w[c]
-            term = flat[base + offset] * (np.abs(weight) if absolute else weight)[..., None]
+            weight = np.abs(weight) if absolute else weight
+            term = (np.take(flat, base + offset) * weight if single
+                    else flat[base + offset] * weight[..., None])
             if out is None:
                 out = term
             else:
                 out += term
-        return out
+        return out[..., None] if single else out
 
     def channel(self, name: str) -> int:
         """Index of output channel ``name``."""
