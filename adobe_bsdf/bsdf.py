@@ -170,9 +170,9 @@ HOOKS = (
     Hook("_eval_pdf_t", ("wo", "wi", "throughput"), "pair", "(_eval, _pdf_t)"),
     Hook("_sample_t", ("wo", "u", "throughput"), "sample", "_sample for a path of throughput"),
     Hook("_sample_directions", ("wo", "u", "throughput"), "sample",
-         "_sample_t with the weights of delta samples only (0 elsewhere; wi, pdf and flags "
-         "the same): what a mixture needs of a component, as it weighs the others by the "
-         "whole mixture"),
+         "_sample_t's directions and flags, delta samples with their weight and pdf, the "
+         "others with weight 0 (or their own) and the drawing lobe's pdf: what a mixture "
+         "needs of a component, as it weighs the others by the whole mixture"),
     Hook("_delta_albedo", ("wo",), "rgb",
          "energy (..., 3) of the delta branches, on which _eval is 0 (0 without)"),
     Hook("_albedo_table", ("wo", "with_error"), "albedo",

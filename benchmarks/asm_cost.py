@@ -8,8 +8,8 @@ and transmissive dielectric with dispersion and anisotropy, coat with a colour, 
 each, the lobes built (``AdobeStandardMaterial.lobes``) and the median of ``runs`` timings
 of ``eval`` and ``sample`` on the same ``pairs`` random pairs, all measured in this one run,
 with the ratio to the plain diffuse material. An anisotropic coat is a separate row: its
-albedo (under which the base is scaled) is a 32 x 32 Gauss rule per distinct ``wo``, so that
-row is timed on a tenth of the pairs (times are per pair).
+albedo (under which the base is scaled) is a 32 x 32 Gauss rule tabulated once per coat
+(``lobes.reflection.TOP_ALBEDO_AXES``), built by the warm-up call.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def measure(pairs: int, runs: int):
     rows = []
     for label, params in MATERIALS:
         material = AdobeStandardMaterial(**params)
-        n = pairs // 10 if params.get("coat_anisotropy_level") else pairs
+        n = pairs
         times = {}
         for call in ("eval", "sample"):
             tp._call(material, call, wo[:100], wi[:100], u[:100])  # warm-up (tables load)

@@ -121,3 +121,37 @@ def test_material_layered_under_another_uses_the_coats_top_albedo():
     wo = _grazing()
     value = layer.albedo(wo, method="quadrature", tol=1e-6)
     assert np.all(value <= 1.0 + 2e-3)
+
+
+def _case_ids():
+    from adobe_bsdf.validation.cases import cases
+
+    return [c.name for c in cases()]
+
+
+@pytest.mark.parametrize("name", _case_ids())
+def test_sample_directions_is_the_sample_without_the_non_delta_weights(name):
+    """``_sample_directions`` (what a mixture asks of a component) draws what ``_sample_t``
+    draws: the same directions and flags bit for bit, the delta samples' weights and pdfs,
+    and elsewhere a weight of 0 (a lobe that skips it) or the sample's own, and a pdf that
+    is positive where the sample's is (a mixture's: its drawing component's), for every
+    check case, from both sides, with and without a path throughput."""
+    from adobe_bsdf.bsdf import Flags
+    from adobe_bsdf.validation.cases import cases
+
+    lobe = next(c for c in cases() if c.name == name).make()
+    rng = np.random.default_rng(11)
+    wo = rng.standard_normal((600, 3))
+    wo /= np.linalg.norm(wo, axis=-1, keepdims=True)
+    u = rng.random((600, 3))
+    for throughput in (None, np.array([0.2, 0.5, 0.9])):
+        full = lobe._sample_t(wo, u, throughput)
+        drawn = lobe._sample_directions(wo, u, throughput)
+        for field in ("wi", "flags"):
+            np.testing.assert_array_equal(getattr(drawn, field), getattr(full, field))
+        delta = (full.flags & int(Flags.DELTA)) != 0
+        np.testing.assert_array_equal(drawn.weight[delta], full.weight[delta])
+        np.testing.assert_array_equal(drawn.pdf[delta], full.pdf[delta])
+        np.testing.assert_array_equal(drawn.pdf > 0.0, full.pdf > 0.0)
+        other = np.broadcast_to(drawn.weight, full.weight.shape)[~delta]
+        assert np.all((other == 0.0) | (other == full.weight[~delta]))

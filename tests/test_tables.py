@@ -15,7 +15,7 @@ import adobe_bsdf as ab
 from adobe_bsdf import tables
 from adobe_bsdf.tables import Axis, TableError, TableSpec, ggx_energy
 from adobe_bsdf.tables.bake import bake, check
-from adobe_bsdf.tables.table import CHECK_TOL
+from adobe_bsdf.tables.table import CHECK_TOL, Table
 from tests.tolerances import EXACT
 
 SIZE_LIMIT = 20 * 2**20  # acceptance: all committed tables <= 20 MB
@@ -212,3 +212,35 @@ def test_smooth_nodes_are_the_exact_fresnel_limit():
     assert alpha[0] == 0.0
     R = table.values[:, 0, :, 0]
     np.testing.assert_allclose(R, ab.fresnel.dielectric(mu[:, None], eta[None, :]), atol=EXACT)
+
+
+@pytest.mark.parametrize("name, fixed", [("asm_diffuse_L", {"roughness": 0.3, "ior": 1.5}),
+                                         ("ggx_dielectric_outside", {"alpha": 0.09, "eta": 1.5}),
+                                         ("ggx_dielectric_inside", {"alpha": 0.7, "eta": 1.33}),
+                                         ("ggx_conductor", {"alpha": 0.02}),
+                                         ("ggx_conductor_anisotropic",
+                                          {"alpha": 0.3, "ratio": 0.2}),
+                                         ("ggx_reflection_moments",
+                                          {"alpha": 0.05, "ratio": 0.01})])
+def test_cubic_lookup_by_cell_polynomials_is_the_stencil_to_rounding(name, fixed):
+    """A table fixed down to one or two cubic axes and one output interpolates by each
+    cell's polynomial (Horner's rule): the stencil's value to rounding, in the first and last
+    cells (where the ghost nodes are folded in), at the nodes and at the ends. The bound is
+    4^d units in the last place of the largest node value (and of 1): both forms sum 4^d
+    products of node values and weights in another order."""
+    table = tables.get(name).fix(**fixed)
+    table = Table(dataclasses.replace(table.spec, outputs=table.spec.outputs[:1]),
+                  table.values[..., :1], table.errors[..., :1])
+    rng = np.random.default_rng(5)
+    coords = []
+    for axis in table.spec.axes:
+        nodes = axis.nodes()
+        coords.append(np.concatenate([
+            rng.uniform(axis.lo, axis.hi, 3000), rng.choice(nodes, 64), [axis.lo, axis.hi],
+            rng.uniform(nodes[0], nodes[1], 300), rng.uniform(nodes[-2], nodes[-1], 300)]))
+    coords = [rng.permutation(c) for c in coords]  # the ends of one axis against any cell
+    stencil = table._interpolate(table.values.copy(), coords, absolute=False)
+    scale = max(1.0, float(np.abs(table.values).max()))
+    bound = 4 ** len(coords) * np.finfo(float).eps * scale
+    np.testing.assert_allclose(table(*coords), stencil, rtol=0, atol=bound)
+    assert "_cubic_cells" in vars(table)  # the polynomial path ran

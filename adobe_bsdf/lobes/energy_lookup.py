@@ -117,7 +117,10 @@ def near_matched(ratio, mu) -> np.ndarray:
     (|eta - 1| = 1e-12) to 0.92 (1e-7) to 1.00 (1e-3) for alpha = 0.3; the tables, whose first
     eta node is 1 + 9e-5, returned 0.50 throughout.
     """
-    return (ratio - 1.0 < MATCHED_ETA) & (mu > 0.0) & (mu < MATCHED_MU)
+    close = ratio - 1.0 < MATCHED_ETA
+    if np.ndim(close) == 0 and not close:  # one index, not nearly matched: nowhere
+        return np.zeros(np.shape(mu), dtype=bool)
+    return close & (mu > 0.0) & (mu < MATCHED_MU)
 
 
 def _integrated(mask, mu, alpha, eta_seen, with_error):
