@@ -356,10 +356,8 @@ class Table:
             for axis in self.spec.axes:
                 n = axis.n
                 start = np.clip(np.arange(n - 1) - 1, 0, n - 4)
-                wm, w0, w1, w2 = _CATMULL_ROM
                 basis = np.broadcast_to(_CATMULL_ROM, (n - 1, 4, 4)).copy()  # cell, node, power
-                basis[0] = (w0 + 3 * wm, w1 - 3 * wm, w2 + wm, 0.0 * wm)
-                basis[-1] = (0.0 * w2, wm + w2, w0 - 3 * w2, w1 + 3 * w2)
+                basis[0], basis[-1] = _fold_first(_CATMULL_ROM), _fold_last(_CATMULL_ROM)
                 bases.append(basis)
                 starts.append(start[:, None] + np.arange(4))  # (cell, node)
             if len(bases) == 1:
