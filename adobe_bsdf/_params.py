@@ -112,11 +112,12 @@ def scalar(name: str, value, lo: float = -np.inf, hi: float = np.inf, *,
     return float(arr)
 
 
-def integer(name: str, value, lo: int) -> int:
-    """An integer count in [lo, inf) (booleans are rejected: a count is never True)."""
+def integer(name: str, value, lo: int, hi: float = np.inf) -> int:
+    """An integer count in [lo, hi] (booleans are rejected: a count is never True)."""
     if (isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer))
-            or value < lo):
-        raise ValueError(f"{name} = {_show(value)} must be an integer in [{lo}, inf)")
+            or not lo <= value <= hi):
+        upper = "inf)" if hi == np.inf else f"{hi}]"
+        raise ValueError(f"{name} = {_show(value)} must be an integer in [{lo}, {upper}")
     return int(value)
 
 

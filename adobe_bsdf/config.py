@@ -4,11 +4,12 @@ anisotropic dielectric energy.
 Public API
 ----------
 ``get_options()``                         the current ``Options``.
-``set_options(threads=..., chunk_size=..., anisotropic_energy=...)``  change them for the
-                                          whole process.
+``set_options(threads=..., chunk_size=..., anisotropic_energy=..., retained_memory=...)``
+                                          change them for the whole process.
 ``options(threads=..., chunk_size=..., anisotropic_energy=...)``  context manager: change
                                           them inside a ``with`` block.
 ``ANISOTROPIC_ENERGY``                    the values of ``anisotropic_energy``.
+``RETAINED_MEMORY``                       the default ``retained_memory`` (bytes).
 
 Large batches of ``eval``, ``pdf``, ``eval_pdf`` and ``sample`` are cut into chunks of
 ``chunk_size`` elements, small enough that a chunk's temporaries stay in the CPU cache, and
@@ -18,6 +19,16 @@ so the results are bit-identical for any ``threads`` (docs/performance.md).
 
 The default number of threads is the ``ADOBE_BSDF_THREADS`` environment variable, else the
 number of CPUs this process may run on.
+
+``retained_memory`` (bytes, process-wide, set at import): how much freed memory the C
+allocator keeps for reuse instead of giving it back to the system (``_allocator``; glibc only,
+elsewhere it changes nothing). Chunks free and re-allocate their temporaries, and without it
+glibc returns them to the kernel and takes fresh, page-faulting pages for the next chunk: the
+faults cost up to half of a material's ``sample`` (docs/performance.md). The default,
+``RETAINED_MEMORY`` (256 MiB), or the ``ADOBE_BSDF_RETAINED_MEMORY`` environment variable; 0
+leaves glibc's own dynamic thresholds untouched at import (``set_options(retained_memory=0)``
+later restores glibc's initial values). The process's resident memory then does not shrink
+below what it used, up to that much more.
 
 ``anisotropic_energy`` is read when a lobe is built and kept by it: "table" (default) looks
 up an anisotropic GGX dielectric's single-scattering energy in the isotropic tables at
@@ -35,10 +46,10 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
-from adobe_bsdf import _params
+from adobe_bsdf import _allocator, _params
 
 __all__ = ["Options", "get_options", "set_options", "options", "map_chunks",
-           "ANISOTROPIC_ENERGY"]
+           "ANISOTROPIC_ENERGY", "RETAINED_MEMORY"]
 
 #: values of ``Options.anisotropic_energy``
 ANISOTROPIC_ENERGY = ("table", "exact")
@@ -47,16 +58,29 @@ ANISOTROPIC_ENERGY = ("table", "exact")
 #: microseconds) that the hand-over of the interpreter lock between threads costs little, and
 #: a chunk's temporaries still fit the L2/L3 caches (the sweep in docs/performance.md)
 DEFAULT_CHUNK_SIZE = 65536
+#: default ``retained_memory``: 256 MiB, more than the temporaries and outputs of a call of
+#: 2·10^5 pairs on a fully loaded material
+RETAINED_MEMORY = 256 * 2**20
+#: the C ``int`` of mallopt bounds ``retained_memory``
+_RETAINED_MAX = 2**31 - 1
+
+
+def _from_env(name: str, lo: int, hi: float = float("inf")) -> int | None:
+    """The integer environment variable ``name`` in [lo, hi], None if unset or empty."""
+    env = os.environ.get(name)
+    if not env:
+        return None
+    try:
+        value = int(env)
+    except ValueError:
+        value = env  # not an integer: the range check below names it
+    return _params.integer(name, value, lo, hi)
 
 
 def _default_threads() -> int:
-    env = os.environ.get("ADOBE_BSDF_THREADS")
-    if env:
-        try:
-            return _params.integer("ADOBE_BSDF_THREADS", int(env), 1)
-        except ValueError as exc:
-            raise ValueError(f"ADOBE_BSDF_THREADS = {env!r} must be an integer in [1, inf)") \
-                from exc
+    env = _from_env("ADOBE_BSDF_THREADS", 1)
+    if env is not None:
+        return env
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not on Linux
@@ -75,15 +99,22 @@ class Options:
         Elements per chunk.
     anisotropic_energy : {"table", "exact"}
         How lobes built now find an anisotropic dielectric's energy (module docstring).
+    retained_memory : int in [0, 2^31 - 1]
+        Bytes of freed memory the allocator keeps for reuse (module docstring).
     """
 
     threads: int
     chunk_size: int
     anisotropic_energy: str = "table"
+    retained_memory: int = RETAINED_MEMORY
 
 
 _state = threading.local()
-_global = Options(threads=_default_threads(), chunk_size=DEFAULT_CHUNK_SIZE)
+_retained = _from_env("ADOBE_BSDF_RETAINED_MEMORY", 0, _RETAINED_MAX)
+_global = Options(threads=_default_threads(), chunk_size=DEFAULT_CHUNK_SIZE,
+                  retained_memory=RETAINED_MEMORY if _retained is None else _retained)
+if _global.retained_memory:
+    _allocator.retain(_global.retained_memory)
 _pools: dict[int, ThreadPoolExecutor] = {}
 _pool_lock = threading.Lock()
 
@@ -107,10 +138,16 @@ def _validated(base: Options, threads, chunk_size, anisotropic_energy=None) -> O
 
 
 def set_options(threads: int | None = None, chunk_size: int | None = None,
-                anisotropic_energy: str | None = None) -> Options:
-    """Set the process-wide options (``None`` leaves one unchanged); returns the new ones."""
+                anisotropic_energy: str | None = None,
+                retained_memory: int | None = None) -> Options:
+    """Set the process-wide options (``None`` leaves one unchanged); returns the new ones.
+    ``retained_memory`` is set here only (it is the allocator's, for every thread)."""
     global _global
     _global = _validated(_global, threads, chunk_size, anisotropic_energy)
+    if retained_memory is not None:
+        retained_memory = _params.integer("retained_memory", retained_memory, 0, _RETAINED_MAX)
+        _allocator.retain(retained_memory)
+        _global = replace(_global, retained_memory=retained_memory)
     return _global
 
 

@@ -32,7 +32,7 @@ from adobe_bsdf import _params, config
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
 from adobe_bsdf.frame import _coordinate_system
 from adobe_bsdf.lobes.dielectric import interface_energy_scale
-from adobe_bsdf.sampling import henyey_greenstein_cos
+from adobe_bsdf.sampling import azimuth, henyey_greenstein_cos
 
 __all__ = ["LayeredReference", "henyey_greenstein", "sample_henyey_greenstein"]
 
@@ -56,8 +56,8 @@ def sample_henyey_greenstein(wo, u2, g):
     sin = np.sqrt(1.0 - cos * cos)
     d = -np.asarray(wo)
     t, b = _coordinate_system(d)
-    phi = 2.0 * np.pi * v
-    wi = ((sin * np.cos(phi))[..., None] * t + (sin * np.sin(phi))[..., None] * b
+    cos_p, sin_p = azimuth(v)
+    wi = ((sin * cos_p)[..., None] * t + (sin * sin_p)[..., None] * b
           + cos[..., None] * d)
     return wi, henyey_greenstein(wo, wi, g)
 

@@ -28,6 +28,7 @@ from scipy import special
 
 from adobe_bsdf import _params
 from adobe_bsdf.frame import dot
+from adobe_bsdf.sampling import azimuth
 
 __all__ = ["GGX", "Beckmann", "Mixture", "MODELS", "distribution", "ALPHA_MIN",
            "MASKING"]
@@ -343,11 +344,11 @@ class GGX(_Distribution):
         sphere cut by the plane z = -w_h.z, add w_h, unstretch."""
         ax, ay = self._ax, self._ay
         x, y, z = self._stretched_direction(wx, wy, wz)
-        phi = 2.0 * np.pi * u0
+        cos_p, sin_p = azimuth(u0)
         cz = (1.0 - u1) * (1.0 + z) - z
         sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
-        mx = (sin_t * np.cos(phi) + x) * ax
-        my = (sin_t * np.sin(phi) + y) * ay
+        mx = (sin_t * cos_p + x) * ax
+        my = (sin_t * sin_p + y) * ay
         mx, my, mz = _normalize(mx, my, cz + z)
         if np.any(self.smooth):
             mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),

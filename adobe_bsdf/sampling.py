@@ -4,23 +4,43 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["concentric_disk", "cosine_hemisphere", "henyey_greenstein_cos", "G_ISOTROPIC"]
+__all__ = ["unit_circle", "azimuth", "concentric_disk", "cosine_hemisphere",
+           "henyey_greenstein_cos", "G_ISOTROPIC"]
 
 #: below this |g| the Henyey–Greenstein cosine is drawn as the isotropic one (the inversion
 #: divides by g)
 G_ISOTROPIC = 1e-3
 
 
+def unit_circle(half_angle):
+    """``(cos 2x, sin 2x)`` for ``half_angle`` x in [0, pi) or [-pi/2, pi/2], by the
+    half-angle formulas of t = tan x: ((1 - t^2) / (1 + t^2), 2 t / (1 + t^2)). One tangent
+    (vectorised in NumPy's SIMD library) instead of a cosine and a sine (scalar, several
+    times slower on float64); within 2.3e-16 of np.cos and np.sin of 2x (the argument's
+    own rounding). At x = fl(pi / 2), t = 1.6e16 and the point is (-1, 1.2e-16)."""
+    t = np.tan(half_angle)
+    t2 = t * t
+    inv = 1.0 / (1.0 + t2)
+    return (1.0 - t2) * inv, (2.0 * t) * inv
+
+
+def azimuth(u):
+    """``(cos phi, sin phi)`` of phi = 2 pi u, ``u`` in [0, 1) (``unit_circle``)."""
+    return unit_circle(np.pi * u)
+
+
 def concentric_disk(u2) -> np.ndarray:
-    """[ShirleyChiu1997] concentric map of ``u2 in [0, 1)^2`` to the unit disk, ``(..., 2)``."""
+    """[ShirleyChiu1997] concentric map of ``u2 in [0, 1)^2`` to the unit disk, ``(..., 2)``:
+    with a, b = 2 u - 1, the point r (cos phi, sin phi) with r, phi = a, (pi/4) b / a where
+    |a| > |b|, else b, pi/2 - (pi/4) a / b; cos and sin of the wedge angle (pi/4) ratio by
+    ``unit_circle``."""
     a = 2.0 * u2[..., 0] - 1.0
     b = 2.0 * u2[..., 1] - 1.0
     first = np.abs(a) > np.abs(b)
     r = np.where(first, a, b)
-    safe_a = np.where(a == 0.0, 1.0, a)
-    safe_b = np.where(b == 0.0, 1.0, b)
-    phi = np.where(first, (np.pi / 4.0) * b / safe_a, np.pi / 2.0 - (np.pi / 4.0) * a / safe_b)
-    return np.stack([r * np.cos(phi), r * np.sin(phi)], axis=-1)
+    ratio = np.where(first, b, a) / np.where(r == 0.0, 1.0, r)  # in [-1, 1]
+    cos, sin = unit_circle((np.pi / 8.0) * ratio)
+    return np.stack([r * np.where(first, cos, sin), r * np.where(first, sin, cos)], axis=-1)
 
 
 def cosine_hemisphere(u2) -> np.ndarray:

@@ -17,7 +17,10 @@ same add runs ~25 % faster per element) times n: the unit of the headline sectio
 The ratios of the acceptance: eval / Σ lobes' eval, sample / Σ lobes' eval, sample / eval.
 ``before`` repeats the measurement on ``BASELINE`` (the library before the material-cost
 work) in a subprocess of the same run (``benchmarks.baseline.run_script``), on the first
-``BEFORE_N`` of the pairs.
+``BEFORE_N`` of the pairs. ``unretained`` repeats the materials' eval and sample (one run)
+in a subprocess with ``ADOBE_BSDF_RETAINED_MEMORY=0`` (glibc's own allocator thresholds,
+``config`` ``retained_memory``). Every measurement also counts the minor page faults of one
+further call of eval and of sample (``resource.getrusage``; 0 where unavailable).
 """
 
 from __future__ import annotations
@@ -66,9 +69,21 @@ def _seconds(lobe, call, n, wo, wi, u, runs) -> float:
     return tp._median(lambda: tp.time_call(lobe, call, wo[:n], wi[:n], u[:n]), runs)[0]
 
 
-def measure(n: int, runs: int, log=None) -> dict:
-    """``{"n", "runs", "pass_seconds", "rows"}``: per case, the material's calls and its
-    lobes' ``eval`` in seconds (or the error)."""
+def _faults(lobe, call, n, wo, wi, u) -> int:
+    """Minor page faults of one ``call`` on the first n pairs (0 without ``resource``)."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not on Unix
+        return 0
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    tp.time_call(lobe, call, wo[:n], wi[:n], u[:n])
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before
+
+
+def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True) -> dict:
+    """``{"n", "runs", "pass_seconds", "rows"}``: per case, the material's ``calls`` (and,
+    with ``lobes``, its lobes' ``eval``) in seconds (or the error), and ``"faults"``: minor
+    page faults of one eval and one sample."""
     wo, wi, u = tp.directions(n)
     unit = tp.memory_pass(UNIT_N, runs)[0] / UNIT_N * n
     rows = []
@@ -77,10 +92,12 @@ def measure(n: int, runs: int, log=None) -> dict:
         row = {"case": label}
         try:
             material = make()
-            row["lobes"] = {name: _seconds(lobe, "eval", n, wo, wi, u, runs)
-                            for name, lobe in material.lobes.items()}
-            for call in CALLS:
+            if lobes:
+                row["lobes"] = {name: _seconds(lobe, "eval", n, wo, wi, u, runs)
+                                for name, lobe in material.lobes.items()}
+            for call in calls:
                 row[call] = _seconds(material, call, n, wo, wi, u, runs)
+            row["faults"] = {c: _faults(material, c, n, wo, wi, u) for c in ("eval", "sample")}
         except Exception as exc:  # reported, not fatal
             row["error"] = f"{type(exc).__name__}: {exc}"
         rows.append(row)
@@ -92,27 +109,88 @@ def measure(n: int, runs: int, log=None) -> dict:
 _SCRIPT = """
 import json, sys
 from benchmarks import material_cost
-json.dump(material_cost.measure({n}, {runs}), open(sys.argv[1], "w"))
+json.dump(material_cost.measure({n}, {runs}, **{options}), open(sys.argv[1], "w"))
 """
 
 
+def _unretained(n: int) -> dict:
+    """Eval and sample (one run) of this library with ``ADOBE_BSDF_RETAINED_MEMORY=0``, in a
+    subprocess (the option is read at import)."""
+    import json
+    import os
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory(prefix="adobe_bsdf_unretained_") as tmp:
+        out = Path(tmp) / "result.json"
+        script = _SCRIPT.format(n=n, runs=1, options={"calls": ("eval", "sample"),
+                                                       "lobes": False})
+        env = {**os.environ, "ADOBE_BSDF_RETAINED_MEMORY": "0",
+               "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])}
+        subprocess.run([sys.executable, "-c", script, str(out)], cwd=root, env=env,
+                       check=True, capture_output=True, timeout=3600)
+        return json.loads(out.read_text())
+
+
 def run(smoke: bool = False, log=None) -> dict:
-    """This library's cost model and ``BASELINE``'s, measured in one run."""
+    """This library's cost model, the same without retained memory, and ``BASELINE``'s,
+    measured in one run."""
     from benchmarks import baseline
 
     n, runs = (SMOKE_N, 2) if smoke else (N, RUNS)
     after = measure(n, runs, log)
     try:
-        before = baseline.run_script(_SCRIPT.format(n=min(n, BEFORE_N), runs=runs), BASELINE,
-                                     ("adobe_bsdf", "tables"))
+        unretained = _unretained(n)
+    except Exception as exc:  # reported in the page
+        unretained = {"error": f"{type(exc).__name__}: {exc}"}
+    try:
+        before = baseline.run_script(_SCRIPT.format(n=min(n, BEFORE_N), runs=runs, options={}),
+                                     BASELINE, ("adobe_bsdf", "tables"))
     except Exception as exc:  # git or the old library unavailable: said in the page
         before = {"error": f"{type(exc).__name__}: {exc}"}
-    return {**after, "before": before}
+    return {**after, "unretained": unretained, "before": before}
 
 
 # --- the page ------------------------------------------------------------------------------
 def _passes(section: dict, seconds) -> float:
     return seconds / section["pass_seconds"]
+
+
+def _fault_table(section: dict) -> list:
+    """Page faults per 1000 pairs of one eval and one sample, and eval and sample in passes,
+    with and without retained memory (and the faults before)."""
+    other = section.get("unretained", {})
+    if "rows" not in other:
+        return ["", f"Without retained memory: not measured ({other.get('error')})."]
+    before = section.get("before", {})
+    old = {r["case"]: r for r in before.get("rows", []) if "faults" in r}
+    off = {r["case"]: r for r in other["rows"] if "faults" in r}
+
+    def per_k(row, section, call):
+        return f"{1000 * row['faults'][call] / section['n']:.0f}"
+
+    out = ["", "Page faults (minor, per 1000 pairs, of one further call) and passes, with the "
+           "default `retained_memory` and with `ADOBE_BSDF_RETAINED_MEMORY=0` (glibc's own "
+           "thresholds; eval and sample, one run, in a subprocess of this run; docs/"
+           "execution.md, \"Memory the allocator keeps\"):", "",
+           "| case | faults eval, sample | passes eval, sample | =0: faults eval, sample | "
+           "=0: passes eval, sample | before: faults eval, sample |", "|---|---|---|---|---|---|"]
+    for row in section["rows"]:
+        label = row["case"]
+        if "faults" not in row or label not in off:
+            continue
+        cells = [label, f"{per_k(row, section, 'eval')}, {per_k(row, section, 'sample')}",
+                 f"{_passes(section, row['eval']):.0f}, {_passes(section, row['sample']):.0f}",
+                 f"{per_k(off[label], other, 'eval')}, {per_k(off[label], other, 'sample')}",
+                 f"{_passes(other, off[label]['eval']):.0f}, "
+                 f"{_passes(other, off[label]['sample']):.0f}",
+                 f"{per_k(old[label], before, 'eval')}, {per_k(old[label], before, 'sample')}"
+                 if label in old else "–"]
+        out.append("| " + " | ".join(cells) + " |")
+    return out + [""]
 
 
 def summary(section: dict) -> list:
@@ -208,6 +286,7 @@ def markdown(section: dict, figure_dir, smoke: bool, link_prefix: str = "figures
     out += ["", "Bounds: " + "; ".join(
         f"{r} ≤ {b}: met by {sum(x[4][r] <= b for x in rows)} of {len(rows)} cases"
         for r, b in BOUNDS.items()) + "."]
+    out += _fault_table(section)
     by = {r[0]: r for r in rows}
     iso, aniso = (by.get(f"ASM fully loaded, {c} coat") for c in ("isotropic", "anisotropic"))
     if iso and aniso:

@@ -30,7 +30,7 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
-from adobe_bsdf.sampling import concentric_disk
+from adobe_bsdf.sampling import azimuth, concentric_disk
 
 __all__ = ["EnergyPreservingOrenNayar", "EON", "fon_albedo", "fon_average_albedo"]
 
@@ -258,8 +258,8 @@ class EnergyPreservingOrenNayar(SupportLobe):
         # uniform hemisphere
         cos = 1.0 - u[..., 1]
         sin = np.sqrt(np.maximum(0.0, (1.0 - cos) * (1.0 + cos)))
-        phi = 2.0 * np.pi * u[..., 2]
-        uniform = np.stack([sin * np.cos(phi), sin * np.sin(phi), cos], axis=-1)
+        cos_p, sin_p = azimuth(u[..., 2])
+        uniform = np.stack([sin * cos_p, sin * sin_p, cos], axis=-1)
         wi = np.where((u[..., 0] < _uniform_share(mu_o, sigma))[..., None], uniform, cltc)
         ok = self._support(wo, wi)
         shape = np.broadcast_shapes(ok.shape, self._param_shape())
