@@ -223,8 +223,9 @@ def test_weight_consistency_at_edge_uniforms(sigma, wo, u):
 def test_weight_consistency_at_a_subnormal_sampled_cosine():
     """Found by hypothesis: grazing wo and sigma = 5e-324 sample wi.z = 5e-324. The check
     must neither call that pair transmission (wo.z wi.z underflows to 0) nor compute the
-    expected weight as f |wi.z| / pdf (f |wi.z| underflows to 0); the sample itself is right."""
-    wo, u = np.array([1.0, 0.0, 1e-8]), np.array([[0.5, 0.0, 0.0]])
+    expected weight as f |wi.z| / pdf (f |wi.z| underflows to 0); the sample itself is right.
+    u = (0, 1/2) is the disk's point (-1, 0) exactly, on the rim."""
+    wo, u = np.array([1.0, 0.0, 1e-8]), np.array([[0.5, 0.0, 0.5]])
     lobe = EON(0.7, 5e-324)
     s = lobe.sample(wo, u[0])
     assert 0.0 < s.wi[2] < 1e-300 and s.flags & Flags.REFLECTION
