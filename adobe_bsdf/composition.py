@@ -79,6 +79,7 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf import darkening as dk
+from adobe_bsdf._channels import scaled
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
@@ -215,7 +216,7 @@ class Sum(Lobe):
         """Weighted per-component results of ``method`` (a colour-valued private method)."""
         for c, w in zip(self.components, self.weights, strict=True):
             value = getattr(c, method)(*args)
-            yield value if w is None else value * w
+            yield value if w is None else scaled(value, w)
 
     @staticmethod
     def _total(parts, shape):
@@ -261,7 +262,7 @@ class Sum(Lobe):
         f, pdf = None, None
         for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
             fk, pk = c._eval_pdf_t(wo, wi, throughput)
-            fk = fk if w is None else fk * w
+            fk = fk if w is None else scaled(fk, w)
             with np.errstate(over="ignore"):  # saturated below
                 f = fk if f is None else f + fk
             pdf = P[k] * pk if pdf is None else pdf + P[k] * pk

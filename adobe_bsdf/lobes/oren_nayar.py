@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import masked, tinted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 from adobe_bsdf.sampling import azimuth, concentric_disk
@@ -192,8 +193,10 @@ class EnergyPreservingOrenNayar(SupportLobe):
             s_over_t = saturated(np.where(t > 0.0, s / t, 0.0))
         fon = _A(sigma) * (1.0 + sigma * s_over_t)
         ms = sigma * _A(sigma) * (_deficit(mu_o) * _deficit(mu_i)) / (C1 - C2)
-        f = (self.reflectance * fon[..., None] + self._rho_ms * ms[..., None]) / np.pi
-        return f if up is None else np.where(up[..., None], f, 0.0)
+        f = tinted(fon, self.reflectance)
+        f += tinted(ms, self._rho_ms)
+        f /= np.pi
+        return f if up is None else masked(up, f)
 
     def _p(self, wo, wi, up):
         """The mixture's density (...), 0 outside ``up``."""

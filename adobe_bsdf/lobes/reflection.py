@@ -8,6 +8,7 @@ import threading
 import numpy as np
 
 from adobe_bsdf import quadrature
+from adobe_bsdf._channels import weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.fresnel import ExactDielectric, Fresnel, FresnelFunction
 from adobe_bsdf.lobes.energy_lookup import (
@@ -122,8 +123,7 @@ class MicrofacetReflection(SupportLobe):
         if F is None:
             return np.repeat(DV[..., None], 3, axis=-1)
         if F.flags.writeable and F.shape == DV.shape + (3,):
-            F *= DV[..., None]
-            return F
+            return weighted(F, DV, out=F)
         return F * DV[..., None]
 
     @staticmethod

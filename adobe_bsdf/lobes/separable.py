@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from adobe_bsdf._channels import tinted
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.lobes.dielectric import _mirror_z
 from adobe_bsdf.sampling import cosine_hemisphere
@@ -40,8 +41,8 @@ class Separable(Lobe):
         return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
 
     def _eval(self, wo, wi):
-        f = self._coefficient(wo, wi) * (self._X(wo) * self._X(wi))[..., None]
-        return np.where(self._support(wo, wi)[..., None], f, 0.0)
+        g = np.where(self._support(wo, wi), self._X(wo) * self._X(wi), 0.0)
+        return tinted(g, self._coefficient(wo, wi))  # c >= 0 finite: c 0 = 0 off the support
 
     def _pdf(self, wo, wi):
         p_r = self._reflect_probability(wo)
