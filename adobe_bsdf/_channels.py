@@ -36,9 +36,11 @@ def tinted(x, colour) -> np.ndarray:
 
 
 def scaled(rgb, colour, out=None) -> np.ndarray:
-    """``rgb * colour`` for ``rgb`` (..., 3) and ``colour`` (3,); ``out`` may be ``rgb``."""
+    """``rgb * colour`` for ``rgb`` (..., 3) (any other last axis broadcasts) and ``colour``
+    (3,); ``out`` may be ``rgb``."""
     rgb, colour = np.asarray(rgb), np.asarray(colour)
-    if not (_fast(rgb[..., 0]) and colour.shape == (3,)):
+    if not (rgb.ndim >= 2 and rgb.shape[-1] == 3 and _fast(rgb[..., 0])
+            and colour.shape == (3,)):
         return np.multiply(rgb, colour, out=out)
     out = np.empty(rgb.shape, dtype=np.result_type(rgb, colour)) if out is None else out
     for k in range(3):
