@@ -25,6 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _params, config, quadrature
+from adobe_bsdf._channels import masked, put_rows
 
 __all__ = ["Flags", "BSDFSample", "Hook", "HOOKS", "Lobe", "SupportLobe", "ALBEDO_METHODS",
            "luminance", "on_support", "finished_sample"]
@@ -105,7 +106,7 @@ def _scatter(part: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:
             row[index] = part_t[c]
     else:
         out.fill(0)
-        out[index] = part
+        put_rows(out, index, part)
     return out
 
 
@@ -490,11 +491,9 @@ def finished_sample(wi, weight, pdf, flags) -> BSDFSample:
     pdf 0) zeroed as the protocol requires; ``weight`` None is 0 (``_sample_directions`` of
     a lobe without delta samples)."""
     ok = (flags != int(Flags.NONE)) & (pdf > 0.0)
-    if weight is None:
-        weight = np.broadcast_to(0.0, ok.shape + (3,))
     return BSDFSample(
-        wi=np.where(ok[..., None], wi, 0.0),
-        weight=np.where(ok[..., None], weight, 0.0),
+        wi=masked(ok, wi),
+        weight=np.zeros(ok.shape + (3,)) if weight is None else masked(ok, weight),
         pdf=np.where(ok, pdf, 0.0),
         flags=np.where(ok, flags, int(Flags.NONE)),
     )

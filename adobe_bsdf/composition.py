@@ -79,7 +79,7 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf import darkening as dk
-from adobe_bsdf._channels import scaled
+from adobe_bsdf._channels import divided, masked, put_rows, scaled, selected, take_rows, weighted
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
@@ -277,10 +277,9 @@ class Sum(Lobe):
         s, wo, P = self._drawn(wo, u, throughput)  # failed samples zeroed at the end
         delta = (s.flags & int(Flags.DELTA)) != 0
         f, mix_pdf = self._eval_pdf_t(wo, s.wi, throughput, P)
-        smooth_weight = f * np.abs(s.wi[..., 2:3]) / np.where(mix_pdf > 0.0, mix_pdf,
-                                                              1.0)[..., None]
-        weight = np.where(delta[..., None], s.weight,
-                          np.where((mix_pdf > 0.0)[..., None], smooth_weight, 0.0))
+        smooth_weight = divided(weighted(f, np.abs(s.wi[..., 2])),
+                                np.where(mix_pdf > 0.0, mix_pdf, 1.0))
+        weight = selected(delta, s.weight, masked(mix_pdf > 0.0, smooth_weight))
         return finished_sample(s.wi, weight, np.where(delta, s.pdf, mix_pdf), s.flags)
 
     def _sample_directions(self, wo, u, throughput):
@@ -302,7 +301,7 @@ class Sum(Lobe):
         wi, weight, pdf, flags = _chosen_samples(self.components, k, wo, u, throughput,
                                                  self.weights)
         delta = (flags & int(Flags.DELTA)) != 0
-        weight = np.where(delta[..., None], weight / np.where(Pk > 0, Pk, 1.0)[..., None], 0.0)
+        weight = masked(delta, divided(weight, np.where(Pk > 0, Pk, 1.0)))
         return BSDFSample(wi, weight, np.where(delta, Pk * pdf, pdf), flags), wo, P
 
     def _delta_albedo(self, wo):
@@ -1007,10 +1006,12 @@ def _chosen_samples(components, k, wo, u, throughput, weights=None):
         index = np.flatnonzero(k == j)
         if not len(index):
             continue
-        t = None if throughput is None else np.broadcast_to(throughput, u.shape)[index]
-        s = c._sample_directions(wo[index], u[index], t)
-        wi[index], pdf[index], flags[index] = s.wi, s.pdf, s.flags
-        weight[index] = s.weight if w is None else s.weight * w
+        t = None if throughput is None else take_rows(np.broadcast_to(throughput, u.shape),
+                                                      index)
+        s = c._sample_directions(take_rows(wo, index), take_rows(u, index), t)
+        put_rows(wi, index, s.wi)
+        put_rows(weight, index, s.weight if w is None else scaled(s.weight, w))
+        pdf[index], flags[index] = s.pdf, s.flags
     return wi, weight, pdf, flags
 
 
@@ -1022,12 +1023,13 @@ def sample_where(lobe: Lobe, wo, u, throughput, chosen) -> BSDFSample:
         return lobe._sample_t(wo, u, throughput)
     index = np.flatnonzero(chosen)
     if throughput is not None:
-        throughput = np.broadcast_to(throughput, u.shape)[index]
-    part = lobe._sample_t(np.broadcast_to(wo, u.shape)[index], u[index], throughput)
+        throughput = take_rows(np.broadcast_to(throughput, u.shape), index)
+    part = lobe._sample_t(take_rows(np.broadcast_to(wo, u.shape), index), take_rows(u, index),
+                          throughput)
     n = u.shape[0]
     full = []
     for field in part:
         out = np.zeros((n,) + field.shape[1:], dtype=field.dtype)
-        out[index] = field
+        put_rows(out, index, field)
         full.append(out)
     return BSDFSample(*full)

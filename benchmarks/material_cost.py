@@ -174,8 +174,8 @@ def _fault_table(section: dict) -> list:
 
     out = ["", "Page faults (minor, per 1000 pairs, of one further call) and passes, with the "
            "default `retained_memory` and with `ADOBE_BSDF_RETAINED_MEMORY=0` (glibc's own "
-           "thresholds; eval and sample, one run, in a subprocess of this run; docs/"
-           "execution.md, \"Memory the allocator keeps\"):", "",
+           "thresholds; eval and sample, one run, in a subprocess of this run, in this run's "
+           "memory pass; docs/execution.md, \"Memory the allocator keeps\"):", "",
            "| case | faults eval, sample | passes eval, sample | =0: faults eval, sample | "
            "=0: passes eval, sample | before: faults eval, sample |", "|---|---|---|---|---|---|"]
     for row in section["rows"]:
@@ -185,8 +185,8 @@ def _fault_table(section: dict) -> list:
         cells = [label, f"{per_k(row, section, 'eval')}, {per_k(row, section, 'sample')}",
                  f"{_passes(section, row['eval']):.0f}, {_passes(section, row['sample']):.0f}",
                  f"{per_k(off[label], other, 'eval')}, {per_k(off[label], other, 'sample')}",
-                 f"{_passes(other, off[label]['eval']):.0f}, "
-                 f"{_passes(other, off[label]['sample']):.0f}",
+                 f"{_passes(section, off[label]['eval']):.0f}, "
+                 f"{_passes(section, off[label]['sample']):.0f}",
                  f"{per_k(old[label], before, 'eval')}, {per_k(old[label], before, 'sample')}"
                  if label in old else "–"]
         out.append("| " + " | ".join(cells) + " |")

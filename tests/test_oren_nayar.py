@@ -148,19 +148,28 @@ def test_albedo_methods_agree():
 # -- the Lambert limit ------------------------------------------------------------------------
 @pytest.mark.parametrize("compensation", [True, False])
 def test_zero_roughness_is_lambert(compensation):
+    """At sigma = 0 the lobe is Lambert's, bit for bit (computed as such), and the general
+    formulas at the smallest positive sigma give the same within rounding."""
     rng = np.random.default_rng(3)
     w = rng.normal(size=(2, 20_000, 3))
     wo, wi = w / np.linalg.norm(w, axis=-1, keepdims=True)
     u = rng.random((20_000, 3))
     rho = (0.9, 0.5, 0.1)
-    eon, lambert = EON(rho, 0.0, compensation), Lambert(rho)
+    eon, lambert, general = EON(rho, 0.0, compensation), Lambert(rho), EON(rho, 5e-324,
+                                                                             compensation)
+    assert not general._lambert
     np.testing.assert_array_equal(eon.eval(wo, wi), lambert.eval(wo, wi))
     np.testing.assert_array_equal(eon.pdf(wo, wi), lambert.pdf(wo, wi))
-    a, b = eon.sample(wo, u), lambert.sample(wo, u)
-    np.testing.assert_array_equal(a.flags, b.flags)
-    np.testing.assert_allclose(a.wi, b.wi, rtol=0.0, atol=1e-15)
+    np.testing.assert_array_equal(general.eval(wo, wi), lambert.eval(wo, wi))
+    np.testing.assert_array_equal(general.pdf(wo, wi), lambert.pdf(wo, wi))
+    a, b, c = eon.sample(wo, u), lambert.sample(wo, u), general.sample(wo, u)
+    for field in ("wi", "pdf", "flags"):
+        np.testing.assert_array_equal(getattr(a, field), getattr(b, field))
     np.testing.assert_allclose(a.weight, b.weight, rtol=1e-15)
-    np.testing.assert_allclose(a.pdf, b.pdf, rtol=1e-15)
+    np.testing.assert_array_equal(c.flags, b.flags)
+    np.testing.assert_allclose(c.wi, b.wi, rtol=0.0, atol=1e-15)
+    np.testing.assert_allclose(c.weight, b.weight, rtol=1e-15)
+    np.testing.assert_allclose(c.pdf, b.pdf, rtol=1e-15)
     assert np.count_nonzero(a.pdf) > 9000
     np.testing.assert_array_equal(eon.albedo(wo, "table"),
                                   np.where(wo[:, 2:] > 0.0, np.array(rho), 0.0))

@@ -28,10 +28,10 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf._channels import masked, tinted
+from adobe_bsdf._channels import masked, selected, tinted, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
-from adobe_bsdf.sampling import azimuth, concentric_disk
+from adobe_bsdf.sampling import azimuth, concentric_disk, cosine_hemisphere
 
 __all__ = ["EnergyPreservingOrenNayar", "EON", "fon_albedo", "fon_average_albedo"]
 
@@ -149,8 +149,12 @@ class EnergyPreservingOrenNayar(SupportLobe):
     half-ellipse of ``_clip_scale``, density w_h,z / (pi s)) and wi = M w_h / |M w_h|, so
     pdf_c(wi) = (|M| / |v|^2)^2 max(v_z, 0) / (pi s) with v = adj(M) wi, and
     pdf = P_u / (2 pi) + (1 - P_u) pdf_c, exact. The clipped side follows the sign of d (the
-    fit's d turns positive for mu_o > 0.9998). At sigma = 0, P_u = 0 and M = I: the samples
-    are Lambert's, from the same concentric disk. ``weight = f cos / pdf``.
+    fit's d turns positive for mu_o > 0.9998). ``weight = f cos / pdf``.
+
+    At sigma = 0 (everywhere) the lobe is Lambert's and is computed as such: f = rho / pi and
+    pdf = cos / pi, the bits the general formulas give there (A = 1, M = I, P_u = 0), and
+    Lambert's cosine-hemisphere sample, from the same concentric disk point that the CLTC map
+    turns into the frame of wo and back (within 1e-15 of it).
     """
 
     flags = Flags.REFLECTION | Flags.DIFFUSE
@@ -167,6 +171,8 @@ class EnergyPreservingOrenNayar(SupportLobe):
         deficit = sigma * _A(sigma) * (C1 - C2)  # 1 - <E_hat>
         rho_ms = albedo * albedo * (1.0 - deficit) / (1.0 - albedo * deficit)
         self._rho_ms = rho_ms if compensation else np.zeros_like(rho_ms)
+        #: sigma = 0 everywhere: computed as Lambert's lobe (see Notes)
+        self._lambert = not np.any(roughness)
 
     def __repr__(self) -> str:
         return (f"EnergyPreservingOrenNayar(albedo={self.reflectance}, "
@@ -186,6 +192,10 @@ class EnergyPreservingOrenNayar(SupportLobe):
     def _f(self, wo, wi, up):
         """f(wo, wi) (..., 3), 0 outside ``up`` (None: all pairs are on the support)."""
         sigma = self.roughness
+        if self._lambert:  # fon = A (1 + 0) = 1 and ms = 0: f = rho / pi, the same bits
+            f = self._rho(np.broadcast_shapes(wo.shape[:-1], wi.shape[:-1], sigma.shape))
+            f /= np.pi
+            return f if up is None else masked(up, f)
         mu_o, mu_i = np.clip(wo[..., 2], 0.0, 1.0), np.clip(wi[..., 2], 0.0, 1.0)
         s = wo[..., 0] * wi[..., 0] + wo[..., 1] * wi[..., 1]
         t = np.where(s > 0.0, np.maximum(mu_o, mu_i), 1.0)
@@ -201,6 +211,10 @@ class EnergyPreservingOrenNayar(SupportLobe):
     def _p(self, wo, wi, up):
         """The mixture's density (...), 0 outside ``up``."""
         sigma = self.roughness
+        if self._lambert:  # M = I, s = 1, P_u = 0: pdf = pdf_c = wi_z / pi, the same bits
+            shape = np.broadcast_shapes(wo.shape[:-1], wi.shape[:-1], sigma.shape)
+            pdf = np.broadcast_to(wi[..., 2], shape) / np.pi
+            return pdf if up is None else np.where(up, pdf, 0.0)
         mu_o = np.clip(wo[..., 2], 0.0, 1.0)
         a, b, c, d = _ltc(mu_o, sigma)
         cx, cy = _frame(wo)
@@ -236,6 +250,18 @@ class EnergyPreservingOrenNayar(SupportLobe):
 
     def _drawn(self, wo, u, weigh: bool):
         """The sample; without ``weigh`` its weight is 0 (``_sample_directions``)."""
+        wi = cosine_hemisphere(u[..., 1:3]) if self._lambert else self._directions(wo, u)
+        ok = self._support(wo, wi)
+        shape = np.broadcast_shapes(ok.shape, self._param_shape())
+        ok = np.broadcast_to(ok, shape)
+        pdf, weight = self._p(wo, wi, ok), None
+        if weigh:
+            with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: failed, zeroed below
+                weight = weighted(self._f(wo, wi, ok), wi[..., 2] / pdf)
+        return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
+
+    def _directions(self, wo, u):
+        """wi of the CLTC / uniform mixture (sigma > 0 somewhere)."""
         sigma = self.roughness
         mu_o = np.clip(wo[..., 2], 0.0, 1.0)
         a, b, c, d = _ltc(mu_o, sigma)
@@ -263,24 +289,23 @@ class EnergyPreservingOrenNayar(SupportLobe):
         sin = np.sqrt(np.maximum(0.0, (1.0 - cos) * (1.0 + cos)))
         cos_p, sin_p = azimuth(u[..., 2])
         uniform = np.stack([sin * cos_p, sin * sin_p, cos], axis=-1)
-        wi = np.where((u[..., 0] < _uniform_share(mu_o, sigma))[..., None], uniform, cltc)
-        ok = self._support(wo, wi)
-        shape = np.broadcast_shapes(ok.shape, self._param_shape())
-        ok = np.broadcast_to(ok, shape)
-        pdf, weight = self._p(wo, wi, ok), None
-        if weigh:
-            with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: failed, zeroed below
-                weight = self._f(wo, wi, ok) * (wi[..., 2] / pdf)[..., None]
-        return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
+        return selected(u[..., 0] < _uniform_share(mu_o, sigma), uniform, cltc)
 
     # -- albedo -----------------------------------------------------------------------------------
     def _albedo(self, wo):
         """E(wo) = rho E_hat(mu_o) + rho_ms (1 - E_hat(mu_o)) (..., 3); 0 below the surface."""
+        up = wo[..., 2] > 0.0
+        if self._lambert:  # E_hat = 1 and the multiple-scattering term 0: E = rho
+            return masked(up, self._rho(np.broadcast_shapes(up.shape, self.roughness.shape)))
         sigma = self.roughness[..., None]
         mu = np.clip(wo[..., 2], 0.0, 1.0)[..., None]
         E = (self.reflectance * _E_hat(mu, sigma)
              + self._rho_ms * (sigma * _A(sigma) * _deficit(mu)))
-        return np.where(wo[..., 2:] > 0.0, E, 0.0)
+        return masked(up, E)
+
+    def _rho(self, batch):
+        """rho over ``batch`` (a new (..., 3) array): 1 * rho, the bits of fon rho at sigma = 0."""
+        return tinted(np.ones(batch), self.reflectance)
 
     def _albedo_quadrature(self, wo, tol):
         """Gauss–Legendre quadrature of f cos over the hemisphere, split where f has kinks:
