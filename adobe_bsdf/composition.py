@@ -171,7 +171,9 @@ class Sum(Lobe):
     whatever the estimates. A delta sample of component k has probability P_k times its
     own. The first uniform is re-used inside the chosen interval, so components that branch
     on it (the dielectric's reflect/refract choice) stay stratified. Where a component's
-    parameters are scalars, it is sampled only for the elements that chose it.
+    parameters are scalars, it is sampled only for the elements that chose it. A Sum of one
+    active component (P = 1) is that component's ``pdf`` and ``eval`` times its weight, and
+    samples as the component does (its own weight times w: within rounding of f |cos| / pdf).
     """
 
     def __init__(self, *components: Lobe, weights=None):
@@ -199,6 +201,8 @@ class Sum(Lobe):
         for c in self.components:
             flags |= c.flags
         self.flags = flags
+        #: (component, weight) where only one is active, else None
+        self._single = (self.components[0], self.weights[0]) if len(active) == 1 else None
 
     def __repr__(self) -> str:
         parts = [repr(c) if w is None else f"{w!r} * {c!r}"
@@ -246,6 +250,8 @@ class Sum(Lobe):
     def _pdf_t(self, wo, wi, throughput):
         if not self.components:
             return np.zeros(self._batch(wo, wi))
+        if self._single:  # P = 1
+            return self._single[0]._pdf_t(wo, wi, throughput)
         P = self._probabilities(wo)
         return sum(P[k] * c._pdf_t(wo, wi, throughput) for k, c in enumerate(self.components))
 
@@ -257,6 +263,10 @@ class Sum(Lobe):
         if not self.components:
             batch = self._batch(wo, wi)
             return np.zeros(batch + (3,)), np.zeros(batch)
+        if self._single:  # P = 1
+            c, w = self._single
+            f, pdf = c._eval_pdf_t(wo, wi, throughput)
+            return saturated(f if w is None else scaled(f, w)), pdf
         if P is None:
             P = self._probabilities(wo)
         f, pdf = None, None
@@ -274,6 +284,8 @@ class Sum(Lobe):
     def _sample_t(self, wo, u, throughput):
         if not self.components:
             return self._sample_directions(wo, u, throughput)
+        if self._single:
+            return self._weighted_sample(self._single[0]._sample_t(wo, u, throughput))
         s, wo, P = self._drawn(wo, u, throughput)  # failed samples zeroed at the end
         delta = (s.flags & int(Flags.DELTA)) != 0
         f, mix_pdf = self._eval_pdf_t(wo, s.wi, throughput, P)
@@ -287,7 +299,14 @@ class Sum(Lobe):
         if not self.components:
             return BSDFSample(np.zeros(batch + (3,)), np.zeros(batch + (3,)), np.zeros(batch),
                               np.full(batch, int(Flags.NONE)))
+        if self._single:
+            return self._weighted_sample(self._single[0]._sample_directions(wo, u, throughput))
         return finished_sample(*self._drawn(wo, u, throughput)[0])
+
+    def _weighted_sample(self, s: BSDFSample) -> BSDFSample:
+        """The single component's sample ``s`` with its weight times w."""
+        w = self._single[1]
+        return s if w is None else s._replace(weight=scaled(s.weight, w))
 
     def _drawn(self, wo, u, throughput):
         """``(sample, wo, P)``: the components' ``_sample_directions`` for the elements that
@@ -662,8 +681,8 @@ class Layer(Lobe):
         delta = (s.flags & int(Flags.DELTA)) != 0
         f, pdf = self._eval_pdf_t(wo, s.wi, throughput, scaled_top, P)
         with np.errstate(divide="ignore", invalid="ignore"):
-            weight = f * np.abs(s.wi[..., 2:3]) / pdf[..., None]
-        weight = np.where(delta[..., None], s.weight, weight)
+            weight = divided(weighted(f, np.abs(s.wi[..., 2])), pdf)
+        weight = selected(delta, s.weight, weight)
         return finished_sample(s.wi, weight, np.where(delta, s.pdf, pdf), s.flags)
 
     def _sample_directions(self, wo, u, throughput):
@@ -683,7 +702,7 @@ class Layer(Lobe):
             with np.errstate(divide="ignore", invalid="ignore"):
                 own = np.where((k == 0)[..., None], self.coverage[..., None] * weight,
                                self._weight(wo, wi, scaled) * weight) / P_k[..., None]
-            weight = np.where(delta[..., None], own, 0.0)
+            weight = masked(delta, own)
         else:  # (a component's default _sample_directions weighs every sample)
             weight = np.zeros_like(weight)
         sample = BSDFSample(wi, weight, np.where(delta, P_k * pdf, pdf), flags)
