@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from adobe_bsdf import _params, config, quadrature
+from adobe_bsdf import _memo, _params, config, quadrature
 from adobe_bsdf._channels import masked, put_rows
 
 __all__ = ["Flags", "BSDFSample", "Hook", "HOOKS", "Lobe", "SupportLobe", "ALBEDO_METHODS",
@@ -347,7 +347,8 @@ class Lobe(_params.Validated):
         if n <= config.get_options().chunk_size or param_shape != ():
             for a, check in args:
                 check(a)
-            return fn(*arrays)
+            with _memo.scope():
+                return fn(*arrays)
         flat = [np.broadcast_to(a, batch + a.shape[-1:]).reshape(n, a.shape[-1])
                 for a in arrays]
         checks = [check for _, check in args]
@@ -357,7 +358,8 @@ class Lobe(_params.Validated):
             chunk = [a[start:stop] for a in flat]
             for a, check in zip(chunk, checks, strict=True):
                 check(a)
-            result = fn(*chunk)
+            with _memo.scope():
+                result = fn(*chunk)
             parts = result if isinstance(result, tuple) else (result,)
             if not out:  # the first chunk runs alone and allocates the outputs
                 kind.append(type(result))
@@ -429,6 +431,11 @@ class Lobe(_params.Validated):
         picks it for sampling (any positive value is correct; closer to the albedo is
         better)."""
         return np.ones(wo.shape[:-1])
+
+    def _sampling_weight_at(self, wo):
+        """``_sampling_weight(wo)``, computed once per call for this ``wo`` (``_memo``): the
+        levels of a composition above a lobe each ask for it."""
+        return _memo.once(self, "sampling_weight", wo, self._sampling_weight)
 
     def _delta_albedo(self, wo):
         """Energy albedo ``(..., 3)`` of the lobe's delta branches (0 for a lobe without)."""

@@ -77,7 +77,7 @@ from functools import partial
 
 import numpy as np
 
-from adobe_bsdf import _params
+from adobe_bsdf import _memo, _params
 from adobe_bsdf import darkening as dk
 from adobe_bsdf._channels import divided, masked, put_rows, scaled, selected, take_rows, weighted
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
@@ -230,7 +230,7 @@ class Sum(Lobe):
         return np.zeros(shape) if total is None else total
 
     def _probabilities(self, wo):
-        w = [c._sampling_weight(wo) * (1.0 if k is None else luminance(k))
+        w = [c._sampling_weight_at(wo) * (1.0 if k is None else luminance(k))
              for c, k in zip(self.components, self.weights, strict=True)]
         w = np.stack(np.broadcast_arrays(*w))
         total = w.sum(axis=0)
@@ -363,7 +363,7 @@ class Sum(Lobe):
     def _sampling_weight(self, wo):
         if not self.components:
             return np.zeros(wo.shape[:-1])
-        return sum(c._sampling_weight(wo) * (1.0 if w is None else luminance(w))
+        return sum(c._sampling_weight_at(wo) * (1.0 if w is None else luminance(w))
                    for c, w in zip(self.components, self.weights, strict=True))
 
 
@@ -619,7 +619,10 @@ class Layer(Lobe):
         return scaled
 
     def _scaled(self, wo):
-        """``_covered`` at wo and E_top(wo)."""
+        """``_covered`` at wo and E_top(wo) (once per call for this ``wo``)."""
+        return _memo.once(self, "scaled", wo, self._scaled_now)
+
+    def _scaled_now(self, wo):
         E_top = self._top_energy(wo)
         return self._covered(wo, self._t(wo), E_top), E_top
 
@@ -636,7 +639,7 @@ class Layer(Lobe):
 
     def _probabilities(self, wo, scaled, E_top):
         top = np.asarray(self.coverage * luminance(E_top))
-        base = luminance(self._weight(wo, wo, scaled, E_top)) * self.base._sampling_weight(wo)
+        base = luminance(self._weight(wo, wo, scaled, E_top)) * self.base._sampling_weight_at(wo)
         top, base = np.broadcast_arrays(top, base)
         total = top + base
         P_top = np.where(total > 0.0, top / np.where(total > 0.0, total, 1.0), 0.5)
@@ -735,7 +738,7 @@ class Layer(Lobe):
         scaled, E_top = self._scaled(wo)
         return (self.coverage * luminance(E_top)
                 + luminance(self._weight(wo, wo, scaled, E_top))
-                * self.base._sampling_weight(wo))
+                * self.base._sampling_weight_at(wo))
 
     def _energy_scale(self, wo, wi):
         return self.base._energy_scale(wo, wi)  # the top reflects only
@@ -866,7 +869,7 @@ class Rotated(Wrapper):
         return np.stack(np.broadcast_arrays(c * x - s * y, s * x + c * y, w[..., 2]), axis=-1)
 
     def _to_inner(self, w):
-        return self._turn(w, -1.0)
+        return _memo.once(self, "to_inner", w, lambda w: self._turn(w, -1.0))
 
     def _from_inner(self, sample, wo):
         return BSDFSample(self._turn(sample.wi, 1.0), sample.weight, sample.pdf, sample.flags)

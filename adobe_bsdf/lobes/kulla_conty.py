@@ -115,7 +115,7 @@ class ConductorMultipleScattering(Separable):
         return scale * loss[..., None], None if error is None else scale * error[..., None]
 
     def _sampling_weight(self, wo):
-        return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._X(wo), 0.0)
+        return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._X_at(wo), 0.0)
 
 
 class ConductorMS(Sum):
@@ -239,7 +239,7 @@ class DielectricMultipleScattering(Separable):
         return grey(np.where(active, np.maximum(1.0 - E, 0.0), 0.0)), grey(error)
 
     def _sampling_weight(self, wo):
-        return self._X(wo)
+        return self._X_at(wo)
 
 
 class DielectricMS(Sum):

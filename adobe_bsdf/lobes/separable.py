@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf._channels import tinted
+from adobe_bsdf import _memo
+from adobe_bsdf._channels import tinted, weighted
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.lobes.dielectric import _mirror_z
 from adobe_bsdf.sampling import cosine_hemisphere
@@ -32,6 +33,11 @@ class Separable(Lobe):
     def _coefficient(self, wo, wi):  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def _X_at(self, w):
+        """``_X(w)``, once per call for this ``w`` (``_memo``): the sampling weight and f at
+        ``wo`` both need X(wo)."""
+        return _memo.once(self, "X", w, self._X)
+
     def _reflect_probability(self, wo):
         return np.ones(wo.shape[:-1])
 
@@ -41,7 +47,7 @@ class Separable(Lobe):
         return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
 
     def _eval(self, wo, wi):
-        g = np.where(self._support(wo, wi), self._X(wo) * self._X(wi), 0.0)
+        g = np.where(self._support(wo, wi), self._X_at(wo) * self._X_at(wi), 0.0)
         return tinted(g, self._coefficient(wo, wi))  # c >= 0 finite: c 0 = 0 off the support
 
     def _pdf(self, wo, wi):
@@ -63,7 +69,7 @@ class Separable(Lobe):
         wi = _mirror_z(local, side)
         pdf = self._pdf(wo, wi)
         ok = pdf > 0.0
-        weight = (self._eval(wo, wi) * (np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))[..., None]
+        weight = (weighted(self._eval(wo, wi), np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))
                   if weigh else None)
         flags = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
                                               int(Flags.REFLECTION), int(Flags.TRANSMISSION))

@@ -189,7 +189,7 @@ class ASMDiffuse(Separable):
                 None if error is None else self.reflectance * error[..., None])
 
     def _sampling_weight(self, wo):
-        return luminance(self.reflectance) * np.where(wo[..., 2] > 0.0, self._X(wo), 0.0)
+        return luminance(self.reflectance) * np.where(wo[..., 2] > 0.0, self._X_at(wo), 0.0)
 
 
 def asm_dielectric_base(albedo, roughness, ior) -> Sum:

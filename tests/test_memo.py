@@ -1,0 +1,83 @@
+"""``adobe_bsdf._memo``: a quantity of one direction array is computed once per call, and only
+within the call; cached values cannot be changed in place."""
+
+import threading
+
+import numpy as np
+import pytest
+
+from adobe_bsdf import _memo
+from adobe_bsdf.materials import AdobeStandardMaterial
+from adobe_bsdf.materials.asm.diffuse import ASMDiffuse
+
+
+class _Counter:
+    def __init__(self):
+        self.calls = 0
+
+    def __call__(self, w):
+        self.calls += 1
+        return w[..., 2] * 2.0
+
+
+def test_once_per_scope_per_array_object():
+    owner, count = object(), _Counter()
+    w = np.ones((4, 3))
+    assert _memo.once(owner, "x", w, count) is not _memo.once(owner, "x", w, count)
+    assert count.calls == 2  # outside a scope: every time
+    with _memo.scope():
+        first = _memo.once(owner, "x", w, count)
+        assert _memo.once(owner, "x", w, count) is first
+        assert count.calls == 3
+        _memo.once(owner, "x", w.copy(), count)  # equal values, another array: computed
+        _memo.once(owner, "y", w, count)  # another name
+        _memo.once(object(), "x", w, count)  # another owner
+        assert count.calls == 6
+        with pytest.raises(ValueError, match="read-only"):
+            first[0] = 1.0
+        with _memo.scope():  # a nested call starts afresh
+            _memo.once(owner, "x", w, count)
+            assert count.calls == 7
+        assert _memo.once(owner, "x", w, count) is first
+    _memo.once(owner, "x", w, count)
+    assert count.calls == 8
+
+
+def test_scopes_are_per_thread():
+    owner, count, w = object(), _Counter(), np.ones((2, 3))
+    seen = []
+    with _memo.scope():
+        _memo.once(owner, "x", w, count)
+        thread = threading.Thread(target=lambda: seen.append(_memo.once(owner, "x", w, count)))
+        thread.start()
+        thread.join()
+    assert count.calls == 2 and len(seen) == 1
+
+
+def test_a_layered_material_computes_its_diffuse_energy_once_per_direction(monkeypatch):
+    """The fully loaded ASM's diffuse needs 1 - L at wo for the sampling weights of three
+    levels (coat, sheen, base) and for f: with the memo, one lookup at wo and one at wi
+    per chunk, and the same values as without it."""
+    calls = []
+    original = ASMDiffuse._X
+
+    def counted(self, w):
+        calls.append(w.shape)
+        return original(self, w)
+
+    material = AdobeStandardMaterial(base_color=(0.8, 0.5, 0.2), roughness=0.4,
+                                     anisotropy_level=0.5, coat_opacity=0.7, sheen_opacity=0.5)
+    rng = np.random.default_rng(0)
+    wo, wi = (np.abs(rng.normal(size=(2, 1000, 3))) / np.sqrt(3.0))
+    wo /= np.linalg.norm(wo, axis=-1, keepdims=True)
+    wi /= np.linalg.norm(wi, axis=-1, keepdims=True)
+    monkeypatch.setattr(ASMDiffuse, "_X", counted)
+    f, pdf = material.eval_pdf(wo, wi)
+    assert len(calls) == 2
+    calls.clear()
+    with monkeypatch.context() as m:
+        m.setattr(_memo, "once", lambda owner, name, w, compute: compute(w))
+        f_plain, pdf_plain = material.eval_pdf(wo, wi)
+    assert len(calls) > 2, "the memo did not remove anything"
+    np.testing.assert_array_equal(f, f_plain)
+    np.testing.assert_array_equal(pdf, pdf_plain)
