@@ -13,7 +13,7 @@ from adobe_bsdf.materials import Material
 
 HOOK_NAMES = [h.name for h in HOOKS]
 #: private methods of ``Lobe`` that are machinery, not hooks a lobe implements
-MACHINERY = {"_batched"}
+MACHINERY = {"_batched", "_sampling_weight_at"}
 
 
 def test_every_private_method_of_lobe_is_a_declared_hook():

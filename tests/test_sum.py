@@ -71,3 +71,26 @@ def test_one_direction_with_a_batch_of_uniforms():
     one, many = mix.sample(wo, u), mix.sample(np.broadcast_to(wo, u.shape), u)
     for a, b in zip(one, many, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("weight", [None, (0.9, 0.4, 0.2)])
+def test_single_component_samples_as_the_component(weight):
+    """One active component is picked with probability 1: eval and pdf are its own (times
+    the weight) bit for bit, and sample is its own sample with the weight applied, whose
+    weight and pdf agree with f |cos| / pdf and pdf(wo, wi) evaluated at the sampled
+    direction to rounding."""
+    lobe = ab.lobes.ConductorMS(0.3, 0.1, ab.fresnel.F82Tint((0.9, 0.6, 0.3), (0.9, 0.9, 0.8)))
+    mix = Sum(lobe) if weight is None else Sum(lobe, Lambert(), weights=[weight, 0.0])
+    w = np.ones(3) if weight is None else np.array(weight)
+    wo, wi, u = _pairs(20_000)
+    np.testing.assert_array_equal(mix.eval(wo, wi), lobe.eval(wo, wi) * w)
+    np.testing.assert_array_equal(mix.pdf(wo, wi), lobe.pdf(wo, wi))
+    s, own = mix.sample(wo, u), lobe.sample(wo, u)
+    np.testing.assert_array_equal(s.wi, own.wi)
+    np.testing.assert_array_equal(s.weight, own.weight * w)
+    ok = s.pdf > 0.0
+    assert np.count_nonzero(ok) > 15_000
+    f, pdf = mix.eval_pdf(wo[ok], s.wi[ok])
+    np.testing.assert_allclose(s.pdf[ok], pdf, rtol=1e-13, atol=0)
+    np.testing.assert_allclose(s.weight[ok], f * np.abs(s.wi[ok, 2:]) / pdf[:, None],
+                               rtol=1e-14, atol=0)
