@@ -5,7 +5,8 @@ Layers, each importing only those below it (``docs/architecture.md``): core math
 (``fresnel``, ``microfacet``, ``frame``, ``spectral``, ``haze``, ...) ← ``tables`` and
 ``quadrature`` ← ``bsdf`` (the protocol) ← ``composition`` ← ``lobes`` ← ``materials``;
 ``layered`` (the stochastic layered reference) beside ``materials``; ``validation``,
-``render``, ``plot``, ``paper_figures`` and the command line beside them.
+``render``, ``plot``, ``paper_figures``, ``explorer`` (``explore``: sliders from a parameter
+specification, in Jupyter) and the command line beside them.
 The validation toolkit and the MaterialX reader are imported on their own:
 ``import adobe_bsdf.validation``, ``import adobe_bsdf.io``.
 """
@@ -34,6 +35,7 @@ from adobe_bsdf import (
 )
 from adobe_bsdf._version import __version__
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe
+from adobe_bsdf.explorer import explore
 from adobe_bsdf.frame import Frame
 from adobe_bsdf.layered import LayeredReference
 from adobe_bsdf.microfacet import GGX, Beckmann
@@ -41,5 +43,5 @@ from adobe_bsdf.microfacet import GGX, Beckmann
 __all__ = ["composition", "config", "darkening", "dispersion", "frame", "fresnel", "haze", "hazy",
            "layered", "lobes", "materials", "media", "microfacet", "paper_figures", "plot",
            "quadrature", "render", "spectral", "tables", "thin_film",
-           "BSDFSample", "Flags", "Lobe", "LayeredReference", "Frame", "GGX", "Beckmann",
+           "explore", "BSDFSample", "Flags", "Lobe", "LayeredReference", "Frame", "GGX", "Beckmann",
            "__version__"]

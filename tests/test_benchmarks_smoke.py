@@ -229,6 +229,16 @@ def test_asm_cost_lists_every_material(tmp_path):
     assert "costs" in text
 
 
+def test_explorer_cost_times_every_target(tmp_path):
+    from benchmarks import explorer_cost
+
+    text = explorer_cost.run(tmp_path, smoke=True).read_text(encoding="utf-8")
+    for name in explorer_cost.TARGETS:
+        row = next(line for line in text.splitlines() if line.startswith(f"| {name} |"))
+        fast, rest = (float(cell) for cell in row.split("|")[3:5])
+        assert fast > 0.0 and rest > 0.0
+
+
 def test_docs_figures_script_draws_every_figure(tmp_path):
     proc = subprocess.run([sys.executable, str(ROOT / "docs" / "figures.py"), "--out",
                            str(tmp_path), "--size", "12", "--spp", "1"], cwd=ROOT,

@@ -117,3 +117,20 @@ def test_asm_validates_each_parameter_once(monkeypatch):
     expected = sorted(p.name for p in PARAMETERS if p.default is not None)
     assert outside_tables == expected
     assert sum(in_tables for _, in_tables in calls) <= 6
+
+
+def test_choices_and_open_upper_bounds():
+    model = Parameter("model", "choice", "ggx", None, choices=("ggx", "beckmann"))
+    assert model.validate("beckmann") == "beckmann" and model.range_text == "{ggx, beckmann}"
+    with pytest.raises(ValueError, match="model = 'phong' is not one of"):
+        model.validate("phong")
+    r = Parameter("r", "real", 0.5, (0.0, 1.0), hi_open=True)
+    assert r.range_text == "[0, 1)" and r.validate(0.999) == 0.999
+    with pytest.raises(ValueError, match="r = 1"):
+        r.validate(1.0)
+    with pytest.raises(ValueError, match="choices"):
+        Parameter("model", "choice", "ggx", None)
+    with pytest.raises(ValueError, match="choices"):
+        Parameter("x", "real", 0.5, (0.0, 1.0), choices=("a",))
+    with pytest.raises(ValueError, match="hi_open"):
+        Parameter("c", "color", 0.5, (0.0, 1.0), hi_open=True)

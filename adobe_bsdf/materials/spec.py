@@ -2,7 +2,8 @@
 
 Public API
 ----------
-``Parameter(name, kind, default, hard, soft=None, doc="")``   one input
+``Parameter(name, kind, default, hard, soft=None, doc="", lo_open=False, choices=None,
+hi_open=False)``                                               one input
 ``ParameterSpec(*parameters)``                                 a material's inputs, in order
 
 The constructor of a material validates its keyword arguments with ``ParameterSpec.validate``
@@ -23,9 +24,10 @@ from adobe_bsdf import _params
 
 __all__ = ["Parameter", "ParameterSpec", "KINDS"]
 
-#: the kinds of input: a colour (scalar or trailing axis 3), a real number, a switch or a
-#: 3-vector of the local shading frame (normalised; MaterialX's vector3)
-KINDS = ("color", "real", "bool", "vector")
+#: the kinds of input: a colour (scalar or trailing axis 3), a real number, a switch, a
+#: 3-vector of the local shading frame (normalised; MaterialX's vector3) or one of a fixed set
+#: of options (a model's name)
+KINDS = ("color", "real", "bool", "vector", "choice")
 
 
 @dataclass(frozen=True)
@@ -36,19 +38,22 @@ class Parameter:
     ----------
     name : str
         Keyword name (snake_case).
-    kind : {"color", "real"}
-    default : float, tuple of 3 floats, or None
+    kind : one of ``KINDS``
+    default : float, tuple of 3 floats, bool, str, or None
         The value where the user gives none; None: derived from other parameters by the
         material (the user may still give it, or pass None for the derived value).
     hard : (lo, hi) or None
-        Allowed range, closed unless ``lo_open``; values outside raise (None for a switch or
-        a vector).
+        Allowed range, closed unless ``lo_open``; values outside raise (None for a switch, a
+        vector or a choice).
     soft : (lo, hi) or None
         The range a user interface offers (None: the hard range).
     doc : str
         One line: meaning, source, what implements it.
-    lo_open : bool
-        The lower bound is excluded (an index of refraction in (0, inf)); real inputs only.
+    lo_open, hi_open : bool
+        The lower (an index of refraction in (0, inf)) or upper bound is excluded; real
+        inputs only.
+    choices : tuple or None
+        The options of a choice (and only of a choice).
     """
 
     name: str
@@ -58,19 +63,27 @@ class Parameter:
     soft: tuple | None = None
     doc: str = ""
     lo_open: bool = False
+    choices: tuple | None = None
+    hi_open: bool = False
 
     def __post_init__(self):
         if self.kind not in KINDS:
             raise ValueError(f"kind = {self.kind!r} of parameter {self.name!r} is not one of "
                              f"{KINDS}")
-        if self.lo_open and self.kind != "real":
-            raise ValueError(f"lo_open of parameter {self.name!r}: allowed for real inputs")
+        if (self.kind == "choice") != (self.choices is not None):
+            raise ValueError(f"choices of parameter {self.name!r}: given for a choice, and "
+                             "only for a choice")
+        if (self.lo_open or self.hi_open) and self.kind != "real":
+            raise ValueError(f"lo_open, hi_open of parameter {self.name!r}: allowed for real "
+                             "inputs")
 
     def validate(self, value):
         """``value`` checked against the hard range, as float64 (a colour as ``(..., 3)``); a
         switch as a bool; a vector as a non-zero ``(..., 3)``, normalised."""
         if self.kind == "bool":
             return _params.flag(self.name, value)
+        if self.kind == "choice":
+            return _params.choice(self.name, value, self.choices)
         if self.kind == "vector":
             v = _params.vectors(self.name, value)
             length = np.linalg.norm(v, axis=-1, keepdims=True)
@@ -81,16 +94,19 @@ class Parameter:
         lo, hi = self.hard
         if self.kind == "color":
             return _params.color(self.name, value, lo, hi)
-        return _params.real(self.name, value, lo, hi, lo_open=self.lo_open)
+        return _params.real(self.name, value, lo, hi, lo_open=self.lo_open,
+                            hi_open=self.hi_open)
 
     @property
     def range_text(self) -> str:
         """The hard range as ``docs/`` writes it."""
         if self.kind == "bool":
             return "{false, true}"
+        if self.kind == "choice":
+            return "{" + ", ".join(map(str, self.choices)) + "}"
         if self.kind == "vector":
             return "unit 3-vector"
-        return _interval(self.hard, self.lo_open)
+        return _interval(self.hard, self.lo_open, self.hi_open)
 
 
 def _number(x) -> str:
@@ -105,10 +121,10 @@ def _number(x) -> str:
     return f"{x:g}".replace("-", "−")
 
 
-def _interval(r, lo_open: bool = False) -> str:
+def _interval(r, lo_open: bool = False, hi_open: bool = False) -> str:
     lo, hi = r
     left = "(" if math.isinf(lo) or lo_open else "["
-    right = ")" if math.isinf(hi) else "]"
+    right = ")" if math.isinf(hi) or hi_open else "]"
     return f"{left}{_number(lo)}, {_number(hi)}{right}"
 
 
