@@ -26,7 +26,9 @@ quadrature wait until the controls have rested ``REST`` seconds (the last sphere
 until then). The title line shows the
 lobes the current parameters make active (the rest are never built) and the time of one
 ``eval`` per pair. Without a widget front end (``ipywidgets`` missing, or outside a Jupyter
-kernel) ``explore`` says so and draws the panels once, for the given values.
+kernel) ``explore`` says so and draws the panels once, for the given values. The figure is
+shown as a PNG in an image widget (its state is kept in the notebook), so no matplotlib
+widget backend is needed.
 """
 
 from __future__ import annotations
@@ -81,9 +83,6 @@ class _StaticWidget:
         self.__dict__.update(options)
 
     def observe(self, callback, names=None):
-        pass
-
-    def clear_output(self, wait=False):
         pass
 
 
@@ -220,7 +219,7 @@ class Explorer:
         self.view = widgets.FloatSlider(value=float(theta_o), min=0.0, max=89.0, step=0.5,
                                         description="θo (°)")
         self.status = widgets.HTML()
-        self.output = widgets.Output()
+        self.image = widgets.Image(format="png")
         self.interactive = _front_end()
         self.data: dict = {}
         self.figure = None
@@ -235,7 +234,7 @@ class Explorer:
         self.widget = widgets.VBox([
             widgets.HTML(f"<b>{self.target.name}</b> — {self.target.doc}"),
             widgets.HBox([widgets.VBox([self.view, *self.controls.values()]),
-                          widgets.VBox([self.status, self.output])])])
+                          widgets.VBox([self.status, self.image])])])
 
     # -- the material ---------------------------------------------------------------------
     def values(self) -> dict:
@@ -286,7 +285,7 @@ class Explorer:
             self.figure = plt.figure(figsize=(11, 8))
             self.figure.subplots_adjust(left=0.05, right=0.9, bottom=0.07, top=0.93,
                                         wspace=0.45, hspace=0.35)
-            plt.close(self.figure)  # shown through the output widget, not by pyplot
+            plt.close(self.figure)  # shown through the image widget, not by pyplot
         fig = self.figure
         fig.clf()
         ax_slice = fig.add_subplot(2, 2, 1, projection="polar")
@@ -355,11 +354,11 @@ class Explorer:
     def _show(self):
         if not self.interactive:
             return
-        from IPython.display import display
+        import io
 
-        with self.output:
-            self.output.clear_output(wait=True)
-            display(self.figure)
+        png = io.BytesIO()  # a PNG, whatever the matplotlib backend
+        self.figure.savefig(png, format="png")
+        self.image.value = png.getvalue()
 
 
 def _front_end() -> bool:

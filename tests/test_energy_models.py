@@ -203,3 +203,18 @@ def test_parameters_out_of_the_tables_raise_naming_them():
         ASMDiffuse(0.5, 0.3, 0.9)
     with pytest.raises(ValueError, match="roughness"):
         asm_dielectric_base(0.5, 1.2, 1.5)
+
+
+def test_dielectric_kulla_conty_reciprocal_where_the_dense_side_loses_nothing():
+    """Near-smooth alpha: the dense side's loss 1 - E_avg,D is below what 1 / loss resolves,
+    the transmitted shares are capped, and L -> D must still be D -> L / eta^2 (found by
+    the property test above: grazing wo and wi on opposite sides)."""
+    from adobe_bsdf.validation.strategies import _direction
+
+    lobe = DielectricMS(2.0, 4.869675251658631e-05)
+    wo, wi = _direction(1e-08, 0.0, 1.0), np.array([1.0, 0.0, -1e-08])
+    forward, backward = lobe.eval(wo, wi), lobe.eval(wi, wo)
+    assert np.all(backward > 0.0)
+    np.testing.assert_allclose(forward, backward / 4.0, rtol=1e-12)
+    result = checks.reciprocity_error(lobe, wo, wi, rtol=RECIPROCITY_TABLE)
+    assert result.passed, result

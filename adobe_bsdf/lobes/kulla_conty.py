@@ -195,9 +195,13 @@ class DielectricMultipleScattering(Separable):
         self.transmitted_share = (t_L, t_D)
         active = ~self.distribution.smooth & (self.eta != 1.0)
         inv_L, inv_D = _inverse_loss(E_avg_L), _inverse_loss(E_avg_D)
+        # L -> D: t_L / (pi eta^2 loss_D), which the condition makes t_D / (pi loss_L); where
+        # the dense side loses nothing that 1 / loss_D resolves (``_inverse_loss`` 0), that
+        # second form keeps the pair reciprocal (D -> L stays eta^2 t_D / (pi loss_L))
         self._c = {  # coefficient of each (side of wo, side of wi) pair
             ("L", "L"): (1.0 - t_L) * inv_L, ("D", "D"): (1.0 - t_D) * inv_D,
-            ("L", "D"): t_L * inv_D / eta2, ("D", "L"): eta2 * t_D * inv_L}
+            ("L", "D"): np.where(inv_D > 0.0, t_L * inv_D / eta2, t_D * inv_L),
+            ("D", "L"): eta2 * t_D * inv_L}
         self._c = {k: np.where(active, v, 0.0) for k, v in self._c.items()}
         self._t = (np.where(active, t_L, 0.0), np.where(active, t_D, 0.0))
 
