@@ -75,6 +75,19 @@ _TINT = _color("tint", (0.96, 0.91, 0.83), "F82-tint: reflectance at 82 degrees 
                hi=_INF)
 
 
+#: the hazy-gloss inputs after the core reflectivity [Barla2018, §2.4], and its models
+_HAZE = (
+    Parameter("haziness", "real", 0.5, (0.0, 1.0), doc="share of the halo"),
+    Parameter("haze_extent", "real", 4.0, (0.0, _INF), (0.0, 10.0),
+              "halo roughness over core roughness"),
+    Parameter("alpha_x", "real", 0.1, (0.0, _INF), (0.01, 0.5), "core roughness along x",
+              lo_open=True),
+    Parameter("alpha_y", "real", 0.1, (0.0, _INF), (0.01, 0.5), "core roughness along y",
+              lo_open=True))
+_HAZE_MODEL = (_MODEL, Parameter("compound_masking", "bool", False, None,
+                                 doc="one Smith masking of the mixed distribution"))
+
+
 def _metal(cls):
     def build(alpha_x, alpha_y, f0, tint, **rest):
         return cls(alpha_x, alpha_y, fresnel.F82Tint(f0, tint), **rest)
@@ -126,30 +139,11 @@ _LOBES = [
     _lobe("HazyGloss", lobes.HazyGloss, "hazy gloss of a metal",
           Parameter("core_reflectivity", "color", (0.9, 0.6, 0.3), (0.0, 1.0), (0.0, 0.99),
                     "reflectivity of the core lobe at normal incidence"),
-          Parameter("haziness", "real", 0.5, (0.0, 1.0), doc="share of the halo"),
-          Parameter("haze_extent", "real", 4.0, (0.0, _INF), (0.0, 10.0),
-                    "halo roughness over core roughness"),
-          Parameter("alpha_x", "real", 0.1, (0.0, _INF), (0.01, 0.5),
-                    "core roughness along x", lo_open=True),
-          Parameter("alpha_y", "real", 0.1, (0.0, _INF), (0.01, 0.5),
-                    "core roughness along y", lo_open=True),
-          _color("edge_tint", (0.0, 0.0, 0.0), "Gulbrandsen edge tint"),
-          _MODEL,
-          Parameter("compound_masking", "bool", False, None,
-                    doc="one Smith masking of the mixed distribution")),
+          *_HAZE, _color("edge_tint", (0.0, 0.0, 0.0), "Gulbrandsen edge tint"), *_HAZE_MODEL),
     _lobe("HazyDielectric", lobes.HazyDielectric, "hazy gloss of a dielectric",
           Parameter("core_reflectivity", "real", 0.04, (0.0, 1.0), (0.0, 0.2),
                     "reflectivity at normal incidence", hi_open=True),
-          Parameter("haziness", "real", 0.5, (0.0, 1.0), doc="share of the halo"),
-          Parameter("haze_extent", "real", 4.0, (0.0, _INF), (0.0, 10.0),
-                    "halo roughness over core roughness"),
-          Parameter("alpha_x", "real", 0.1, (0.0, _INF), (0.01, 0.5),
-                    "core roughness along x", lo_open=True),
-          Parameter("alpha_y", "real", 0.1, (0.0, _INF), (0.01, 0.5),
-                    "core roughness along y", lo_open=True),
-          _MODEL,
-          Parameter("compound_masking", "bool", False, None,
-                    doc="one Smith masking of the mixed distribution")),
+          *_HAZE, *_HAZE_MODEL),
 ]
 
 #: every target of ``explore`` by name: the materials, then the generic lobes

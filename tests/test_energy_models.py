@@ -218,3 +218,16 @@ def test_dielectric_kulla_conty_reciprocal_where_the_dense_side_loses_nothing():
     np.testing.assert_allclose(forward, backward / 4.0, rtol=1e-12)
     result = checks.reciprocity_error(lobe, wo, wi, rtol=RECIPROCITY_TABLE)
     assert result.passed, result
+
+
+def test_dielectric_multiple_scattering_alone_is_a_colour_lobe():
+    """The term on its own returns (..., 3) like every lobe (its coefficient is grey), so its
+    quadrature albedo works and matches the table's 1 - E_s(mu_o) it restores."""
+    from adobe_bsdf.lobes import DielectricMultipleScattering
+
+    lobe = DielectricMultipleScattering(1.5, 0.3)
+    wo = np.array([0.3, 0.0, np.sqrt(0.91)])
+    wi = np.array([[-0.3, 0.1, np.sqrt(0.9)], [0.2, 0.1, -np.sqrt(0.95)]])
+    assert lobe.eval(wo, wi[0]).shape == (3,) and lobe.eval(wo, wi).shape == (2, 3)
+    np.testing.assert_allclose(lobe.albedo(wo, method="quadrature"),
+                               lobe.albedo(wo, method="table"), atol=1e-6)

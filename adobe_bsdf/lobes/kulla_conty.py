@@ -227,7 +227,8 @@ class DielectricMultipleScattering(Separable):
         for (so, si), coefficient in self._c.items():
             here = (o_light == (so == "L")) & (i_light == (si == "L"))
             c = c + np.where(here, coefficient, 0.0)
-        return np.asarray(c)[..., None]
+        c = np.asarray(c)[..., None]
+        return np.broadcast_to(c, c.shape[:-1] + (3,))  # grey: f is (..., 3) as for any lobe
 
     def _reflect_probability(self, wo):
         t_L, t_D = self._t
