@@ -9,7 +9,8 @@ Public API
 ``Explorer``                   its controls, panels and the data behind them
 
 Each parameter of the target's ``ParameterSpec`` that ``fixed`` does not set gets a control:
-a slider over its soft range (so no value outside the hard range can be entered), a colour
+a slider over its soft range (so no value outside the hard range can be entered; without a
+soft range and with no upper bound, up to ten times the default or 1), a colour
 picker for a colour (its 8-bit value / 255; the default exactly until it is moved), a
 checkbox for a switch, a dropdown for a choice, two angle sliders for a unit vector; a
 parameter the material derives gets an "auto" box beside its control. A slider sets the
@@ -51,6 +52,8 @@ REST = 0.8
 SIZES = {"normal": (64, 361, 32, 96, 16), "small": (16, 91, 8, 16, 2)}
 #: pairs timed for the eval cost shown
 _TIMED = 4096
+#: room for the longest parameter names beside their controls
+_STYLE = {"description_width": "12em"}
 
 
 def _hex(rgb) -> str:
@@ -111,31 +114,34 @@ class _Control:
                      if p.default is None else None)
         if kind == "real":
             lo, hi = p.soft or p.hard
+            if not np.isfinite(hi):  # no soft range: up to ten times the default (or 1)
+                hi = lo + 10.0 * max(abs(p.default or 0.0), 1.0)
             step = (hi - lo) / 200.0
             lo = lo + step if p.lo_open and lo == p.hard[0] else lo
             hi = hi - step if p.hi_open and hi == p.hard[1] else hi
             value = lo if p.default is None else float(np.clip(p.default, lo, hi))
             self.widget = widgets.FloatSlider(value=value, min=lo, max=hi, step=step,
                                               description=label, readout_format=".3g",
-                                              continuous_update=True)
+                                              continuous_update=True, style=_STYLE)
             self.parts = [self.widget]
         elif kind == "color":
             default = (0.5, 0.5, 0.5) if p.default is None else p.default
             self._exact = (_hex(default), tuple(np.broadcast_to(default, 3).tolist()))
             self.widget = widgets.ColorPicker(value=self._exact[0], description=label,
-                                              concise=False)
+                                              concise=False, style=_STYLE)
             self.parts = [self.widget]
         elif kind == "bool":
-            self.widget = widgets.Checkbox(value=bool(p.default), description=label)
+            self.widget = widgets.Checkbox(value=bool(p.default), description=label,
+                                           style=_STYLE)
             self.parts = [self.widget]
         elif kind == "choice":
             self.widget = widgets.Dropdown(options=list(p.choices), value=p.default,
-                                           description=label)
+                                           description=label, style=_STYLE)
             self.parts = [self.widget]
         else:  # a unit vector: polar and azimuthal angle
             theta, phi = _angles(p.default)
             self.parts = [widgets.FloatSlider(value=theta, min=0.0, max=180.0, step=0.5,
-                                              description=f"{label} θ"),
+                                              description=f"{label} θ", style=_STYLE),
                           widgets.FloatSlider(value=phi, min=0.0, max=359.5, step=0.5,
                                               description="φ")]
             self.widget = widgets.HBox(self.parts)
@@ -217,7 +223,7 @@ class Explorer:
                           if p.name not in self.fixed}
         self.controls = {name: c.box for name, c in self._controls.items()}
         self.view = widgets.FloatSlider(value=float(theta_o), min=0.0, max=89.0, step=0.5,
-                                        description="θo (°)")
+                                        description="θo (°)", style=_STYLE)
         self.status = widgets.HTML()
         self.image = widgets.Image(format="png")
         self.interactive = _front_end()

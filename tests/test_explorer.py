@@ -37,6 +37,7 @@ def test_every_control_comes_from_the_spec(name):
         if p.kind == "real":
             slider = control.widget
             lo, hi = p.soft or p.hard
+            assert np.isfinite(slider.min) and np.isfinite(slider.max)  # JSON has no inf
             assert p.hard[0] <= slider.min and slider.max <= p.hard[1]
             assert slider.min == pytest.approx(lo, abs=(hi - lo) / 199)
             assert slider.max == pytest.approx(hi, abs=(hi - lo) / 199)
@@ -116,11 +117,14 @@ def test_rest_adds_the_sphere_and_the_quadrature_with_its_error():
 def test_a_parameter_added_to_a_spec_is_a_control():
     spec = ParameterSpec(Parameter("albedo", "color", (0.5, 0.5, 0.5), (0.0, 1.0)),
                          Parameter("gain", "real", 0.25, (0.0, 1.0), (0.0, 0.5), "new"),
-                         Parameter("flavour", "choice", "b", None, choices=("a", "b")))
-    target = Explorable("Gained", spec, lambda albedo, gain, flavour: ab.lobes.Lambert(
+                         Parameter("flavour", "choice", "b", None, choices=("a", "b")),
+                         Parameter("reach", "real", 2.0, (0.0, np.inf)))  # no soft range
+    target = Explorable("Gained", spec, lambda albedo, gain, flavour, reach: ab.lobes.Lambert(
         np.asarray(albedo) * gain))
     explorer = Explorer(target, size="small")
-    assert list(explorer.controls) == ["albedo", "gain", "flavour"]
+    assert list(explorer.controls) == ["albedo", "gain", "flavour", "reach"]
+    reach = explorer._controls["reach"].widget
+    assert (reach.min, reach.max, reach.value) == (0.0, 20.0, 2.0)  # ten times the default
     assert (explorer._controls["gain"].widget.min, explorer._controls["gain"].widget.max) \
         == (0.0, 0.5)
     assert explorer._controls["flavour"].widget.options == ("a", "b")

@@ -66,7 +66,7 @@ PARAMETERS = ParameterSpec(
     Parameter("scattering_color", "color", None, _UNIT, doc=(
         "[Kutz2021, §5] `media.asm_medium` (Kulla & Conty inversion); derived: base_color "
         "(ours)")),
-    Parameter("scattering_distance", "real", 1.0, (0.0, _INF), doc=(
+    Parameter("scattering_distance", "real", 1.0, (0.0, _INF), (0.0, 10.0), doc=(
         "[Kutz2021, §5] `media.asm_medium` (0 raised to 1e-9); default ours")),
     Parameter("scattering_distance_scale", "color", 1.0, (0.0, _INF), doc=(
         "[Kutz2021, §5] `media.asm_medium` (divides the extinction)")),
@@ -96,7 +96,7 @@ PARAMETERS = ParameterSpec(
     Parameter("coat_anisotropy_angle", "real", 0.0, _UNIT, doc=(
         "[Kutz2021, §7] `materials.asm.asm_coat` (ours: as §3)")),
     Parameter("emissive_color", "color", 1.0, _UNIT, doc="`AdobeStandardMaterial.emission(wo)`"),
-    Parameter("emissive_intensity", "real", 0.0, (0.0, _INF), doc=(
+    Parameter("emissive_intensity", "real", 0.0, (0.0, _INF), (0.0, 10.0), doc=(
         "`AdobeStandardMaterial.emission(wo)`")),
 )
 
