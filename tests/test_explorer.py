@@ -178,3 +178,33 @@ def test_without_ipywidgets_the_controls_are_plain_values(monkeypatch):
                                  "roughness": 0.7}
     data = explorer.update(slow=True)
     assert data["slice"].shape == (91, 3) and np.all(np.isfinite(data["slice"]))
+
+
+def test_changes_are_debounced_and_the_slow_panels_wait_for_rest(monkeypatch):
+    """On an event loop (a kernel's), a burst of changes gives one fast update DEBOUNCE s
+    after the last change and one slow update REST s after it."""
+    import asyncio
+
+    from adobe_bsdf import explorer as module
+
+    monkeypatch.setattr(module, "DEBOUNCE", 0.05)
+    monkeypatch.setattr(module, "REST", 0.15)
+    explorer = Explorer("Lambert", size="small")
+    calls = []
+    monkeypatch.setattr(explorer, "update", lambda slow=False: calls.append(
+        (round(asyncio.get_running_loop().time() - start, 2), slow)))
+
+    async def burst():
+        nonlocal start
+        start = asyncio.get_running_loop().time()
+        for value in ("#101010", "#202020", "#303030"):
+            explorer._controls["albedo"].widget.value = value
+            await asyncio.sleep(0.01)
+        assert calls == []  # nothing while the controls move
+        await asyncio.sleep(0.3)
+
+    start = 0.0
+    asyncio.run(burst())
+    assert [slow for _, slow in calls] == [False, True]
+    fast_at, slow_at = calls[0][0], calls[1][0]
+    assert 0.07 <= fast_at < slow_at and slow_at >= 0.17  # measured from the first change
