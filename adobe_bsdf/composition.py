@@ -229,10 +229,14 @@ class Sum(Lobe):
             total = p if total is None else total + p
         return np.zeros(shape) if total is None else total
 
+    def _shares(self, wo):
+        """Each component's sampling weight times the luminance of its weight: P_k before
+        normalisation."""
+        return [c._sampling_weight_at(wo) * (1.0 if k is None else luminance(k))
+                for c, k in zip(self.components, self.weights, strict=True)]
+
     def _probabilities(self, wo):
-        w = [c._sampling_weight_at(wo) * (1.0 if k is None else luminance(k))
-             for c, k in zip(self.components, self.weights, strict=True)]
-        w = np.stack(np.broadcast_arrays(*w))
+        w = np.stack(np.broadcast_arrays(*self._shares(wo)))
         total = w.sum(axis=0)
         return np.where(total > 0.0, w / np.where(total > 0.0, total, 1.0), 1.0 / len(w))
 
@@ -363,8 +367,7 @@ class Sum(Lobe):
     def _sampling_weight(self, wo):
         if not self.components:
             return np.zeros(wo.shape[:-1])
-        return sum(c._sampling_weight_at(wo) * (1.0 if w is None else luminance(w))
-                   for c, w in zip(self.components, self.weights, strict=True))
+        return sum(self._shares(wo))
 
 
 class Mix(Sum):
@@ -637,10 +640,14 @@ class Layer(Lobe):
             base = base * self.normalisation[0] * (1.0 - E_top_i)
         return (1.0 - self.coverage)[..., None] + base
 
+    def _shares(self, wo, scaled, E_top):
+        """(top, base): c E_top and the base's weight at wo times its sampling weight, the
+        probabilities before normalisation."""
+        return (self.coverage * luminance(E_top),
+                luminance(self._weight(wo, wo, scaled, E_top)) * self.base._sampling_weight_at(wo))
+
     def _probabilities(self, wo, scaled, E_top):
-        top = np.asarray(self.coverage * luminance(E_top))
-        base = luminance(self._weight(wo, wo, scaled, E_top)) * self.base._sampling_weight_at(wo)
-        top, base = np.broadcast_arrays(top, base)
+        top, base = np.broadcast_arrays(*self._shares(wo, scaled, E_top))
         total = top + base
         P_top = np.where(total > 0.0, top / np.where(total > 0.0, total, 1.0), 0.5)
         return np.stack([P_top, 1.0 - P_top])
@@ -735,10 +742,8 @@ class Layer(Lobe):
         return value, (c * err_top + W * err_base) if with_error else None
 
     def _sampling_weight(self, wo):
-        scaled, E_top = self._scaled(wo)
-        return (self.coverage * luminance(E_top)
-                + luminance(self._weight(wo, wo, scaled, E_top))
-                * self.base._sampling_weight_at(wo))
+        top, base = self._shares(wo, *self._scaled(wo))
+        return top + base
 
     def _energy_scale(self, wo, wi):
         return self.base._energy_scale(wo, wi)  # the top reflects only

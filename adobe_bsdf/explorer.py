@@ -383,15 +383,14 @@ def explore(target, size: str = "normal", theta_o: float = 45.0, **fixed):
 
     Returns the ``Explorer`` (shown in the notebook), or, without a widget front end, the
     matplotlib Figure of the panels for the given values (with a message saying why)."""
-    if not _front_end():
-        explorer = Explorer(target, fixed, size, theta_o)
+    explorer = Explorer(target, fixed, size, theta_o)
+    if not explorer.interactive:
         explorer.update(slow=True)
         print("explore: no widget front end (ipywidgets in a Jupyter kernel); the panels "
               f"for {explorer.target.name} at the given values, static:")
         return explorer.figure
     from IPython.display import display
 
-    explorer = Explorer(target, fixed, size, theta_o)
     display(explorer.widget)
     explorer.update(slow=True)
     return explorer
