@@ -34,6 +34,7 @@ widget backend is needed.
 
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -342,9 +343,7 @@ class Explorer:
 
     @staticmethod
     def _eval_ns(lobe, wo) -> float:
-        rng = np.random.default_rng(0)
-        wi = rng.normal(size=(_TIMED, 3))
-        wi /= np.linalg.norm(wi, axis=-1, keepdims=True)
+        wi = _timed_directions()
         start = time.perf_counter()
         lobe.eval(np.broadcast_to(wo, wi.shape), wi)
         return (time.perf_counter() - start) / _TIMED * 1e9
@@ -365,6 +364,13 @@ class Explorer:
         png = io.BytesIO()  # a PNG, whatever the matplotlib backend
         self.figure.savefig(png, format="png")
         self.image.value = png.getvalue()
+
+
+@functools.cache
+def _timed_directions() -> np.ndarray:
+    """The ``_TIMED`` directions on the sphere at which eval is timed (drawn once)."""
+    wi = np.random.default_rng(0).normal(size=(_TIMED, 3))
+    return wi / np.linalg.norm(wi, axis=-1, keepdims=True)
 
 
 def _front_end() -> bool:
