@@ -9,16 +9,19 @@ operation on every element (the same results) at the speed of one-channel arithm
 Selections only copy values, so they are done on whole rows: a C-contiguous float64
 ``(..., 3)`` array viewed as one 24-byte item per row is copied with ``take`` and ``put``,
 which move each row with one copy (``a[index]`` and ``np.where`` over a broadcast mask
-work element by element). Below ``SMALL`` elements, or for shapes other than those named,
-the plain NumPy expression is used.
+work element by element). ``pick`` is ``np.where`` on float64 values as a bitwise select:
+NumPy's ``where`` branches per element, 7-12 times the cost of an add where the mask is
+unpredictable (a support mask of random directions, the wedge of the concentric map).
+Below ``SMALL`` elements, or for shapes other than those named, the plain NumPy expression
+is used.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["tinted", "scaled", "weighted", "divided", "masked", "selected", "take_rows", "put_rows",
-           "SMALL"]
+__all__ = ["tinted", "scaled", "weighted", "divided", "masked", "selected", "pick",
+           "take_rows", "put_rows", "SMALL"]
 
 #: below this many pairs the plain broadcast is as fast (three calls cost ~1 us more)
 SMALL = 2048
@@ -115,6 +118,37 @@ def selected(mask, a, b) -> np.ndarray:
     out = np.array(b, order="C")
     put_rows(out.reshape(-1, 3), index, take_rows(a.reshape(-1, 3), index))
     return out
+
+
+def pick(mask, a, b) -> np.ndarray:
+    """``np.where(mask, a, b)`` bit for bit, for ``a``, ``b`` float64 arrays of the shape of
+    the boolean array ``mask`` or Python / NumPy float scalars: where between 5 % and 95 %
+    of the mask is set (an unpredictable branch), the bits are selected without branching,
+    b ^ ((a ^ b) & -mask), about 3.4 times faster; otherwise NumPy's own."""
+    if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.size >= SMALL):
+        return np.where(mask, a, b)
+    bits_a, bits_b = _bits(a, mask.shape), _bits(b, mask.shape)
+    if bits_a is None or bits_b is None or (bits_a.ndim == 0 and bits_b.ndim == 0):
+        return np.where(mask, a, b)
+    count = np.count_nonzero(mask)
+    if not 0.05 * mask.size < count < 0.95 * mask.size:
+        return np.where(mask, a, b)
+    k = mask.view(np.uint8).astype(np.int64)
+    np.negative(k, out=k)  # all ones where set
+    out = np.bitwise_xor(bits_a, bits_b)
+    out &= k
+    out ^= bits_b
+    return out.view(np.float64)
+
+
+def _bits(x, shape):
+    """``x`` as int64 bits: a float64 array of ``shape`` viewed, a float scalar converted;
+    None otherwise."""
+    if isinstance(x, np.ndarray):
+        return x.view(np.int64) if x.dtype == np.float64 and x.shape in (shape, ()) else None
+    if isinstance(x, (float, np.float64)):
+        return np.float64(x).view(np.int64)
+    return None
 
 
 def take_rows(a, index) -> np.ndarray:

@@ -10,6 +10,11 @@ scope it just computes. The entries hold ``w`` and ``owner``, so their ids stay 
 the scope's life, and the values are made read-only, so a caller that would change one in
 place fails instead of corrupting the next request. Nothing changes a result: a value is
 the one ``compute`` gives.
+
+``rows(w, index)`` gathers rows of ``w`` for a part of the batch (a mixture's elements that
+chose one component): a later ``once`` on the gathered array takes the rows of the value
+already kept for ``w`` instead of computing it again (the quantities are per row, so these
+are the values ``compute`` would give on the rows).
 """
 
 from __future__ import annotations
@@ -19,7 +24,11 @@ from contextlib import contextmanager
 
 import numpy as np
 
-__all__ = ["scope", "once"]
+__all__ = ["scope", "once", "rows"]
+
+#: below this many rows a gathered array is not linked to its source (a per-row value of a
+#: small batch could not be told from a colour by its shape)
+ROWS_MIN = 64
 
 _local = threading.local()
 
@@ -44,9 +53,41 @@ def once(owner, name: str, w, compute):
     entry = table.get(key)
     if entry is not None and entry[0] is w and entry[1] is owner:
         return entry[2]
-    value = compute(w)
+    value = _gathered(table, owner, name, w)
+    if value is None:
+        value = compute(w)
     for part in value if isinstance(value, tuple) else (value,):
         if isinstance(part, np.ndarray):
             part.flags.writeable = False
     table[key] = (w, owner, value)
     return value
+
+
+def rows(w, index):
+    """``w[index]`` (rows of an ``(n, ...)`` array), remembered in the scope as rows of
+    ``w`` so that ``once`` values kept for ``w`` serve it."""
+    part = np.asarray(w).take(index, axis=0)
+    table = getattr(_local, "table", None)
+    if table is not None and len(w) >= ROWS_MIN:
+        table[("rows", id(part))] = (part, w, index)
+    return part
+
+
+def _gathered(table, owner, name, w):
+    """The rows of the value kept for the array ``w`` was gathered from, or None."""
+    link = table.get(("rows", id(w)))
+    if link is None or link[0] is not w:
+        return None
+    _, source, index = link
+    entry = table.get((id(owner), name, id(source)))
+    if entry is None or entry[0] is not source or entry[1] is not owner:
+        return None
+    n = len(source)
+
+    def take(part):
+        if isinstance(part, np.ndarray) and part.ndim >= 1 and part.shape[0] == n:
+            return part.take(index, axis=0)
+        return part  # broadcast over the rows
+
+    value = entry[2]
+    return tuple(map(take, value)) if isinstance(value, tuple) else take(value)

@@ -25,7 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _memo, _params, config, quadrature
-from adobe_bsdf._channels import masked, put_rows
+from adobe_bsdf._channels import masked, pick, put_rows
 
 __all__ = ["Flags", "BSDFSample", "Hook", "HOOKS", "Lobe", "SupportLobe", "ALBEDO_METHODS",
            "luminance", "on_support", "finished_sample"]
@@ -214,6 +214,10 @@ class Lobe(_params.Validated):
     eta = None
     #: whether ``eta`` has one index per colour channel
     eta_per_channel: bool = False
+    #: whether a non-delta sample's weight is f |cos| / pdf of ``_eval_pdf_t`` (to rounding):
+    #: then a mixture takes the chosen component's f |cos| as weight * pdf instead of
+    #: evaluating it again (``composition.Sum``); False for a stochastic estimate
+    weight_is_ratio: bool = True
 
     # -- public protocol -------------------------------------------------------------------
     def eval(self, wo, wi) -> np.ndarray:
@@ -493,14 +497,23 @@ def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
     return mean, np.sqrt(m2 / (n_samples - 1)) / np.sqrt(n_samples)
 
 
-def finished_sample(wi, weight, pdf, flags) -> BSDFSample:
+def finished_sample(wi, weight, pdf, flags, fresh: bool = False) -> BSDFSample:
     """The ``BSDFSample`` of a sampler's raw arrays, with the failed elements (no flags, or
     pdf 0) zeroed as the protocol requires; ``weight`` None is 0 (``_sample_directions`` of
-    a lobe without delta samples)."""
+    a lobe without delta samples). ``fresh``: the four arrays are the caller's own, of the
+    batch's shape, and are zeroed in place (no copies)."""
     ok = (flags != int(Flags.NONE)) & (pdf > 0.0)
+    if (fresh and ok.ndim == 1 and weight is not None and wi.shape == weight.shape
+            == ok.shape + (3,) and pdf.shape == flags.shape == ok.shape):
+        failed = np.flatnonzero(~ok)
+        if len(failed):
+            for rows, zero in ((wi, 0.0), (weight, 0.0), (pdf, 0.0), (flags, int(Flags.NONE))):
+                put_rows(rows, failed, np.full((len(failed),) + rows.shape[1:], zero,
+                                               dtype=rows.dtype))
+        return BSDFSample(wi, weight, pdf, flags)
     return BSDFSample(
         wi=masked(ok, wi),
         weight=np.zeros(ok.shape + (3,)) if weight is None else masked(ok, weight),
-        pdf=np.where(ok, pdf, 0.0),
-        flags=np.where(ok, flags, int(Flags.NONE)),
+        pdf=pick(ok, pdf, 0.0),
+        flags=pick(ok, flags, int(Flags.NONE)),
     )

@@ -79,7 +79,16 @@ import numpy as np
 
 from adobe_bsdf import _memo, _params
 from adobe_bsdf import darkening as dk
-from adobe_bsdf._channels import divided, masked, put_rows, scaled, selected, take_rows, weighted
+from adobe_bsdf._channels import (
+    divided,
+    masked,
+    pick,
+    put_rows,
+    scaled,
+    selected,
+    take_rows,
+    weighted,
+)
 from adobe_bsdf.bsdf import HOOKS, BSDFSample, Flags, Hook, Lobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 
@@ -123,6 +132,10 @@ class Wrapper(Lobe):
     def eta_per_channel(self) -> bool:
         """Whether ``eta`` has one index per colour channel (``Dispersive``)."""
         return self._inner().eta_per_channel
+
+    @property
+    def weight_is_ratio(self) -> bool:
+        return self._inner().weight_is_ratio
 
 
 def _forwarding(hook: Hook):
@@ -238,7 +251,7 @@ class Sum(Lobe):
     def _probabilities(self, wo):
         w = np.stack(np.broadcast_arrays(*self._shares(wo)))
         total = w.sum(axis=0)
-        return np.where(total > 0.0, w / np.where(total > 0.0, total, 1.0), 1.0 / len(w))
+        return pick(total > 0.0, w / pick(total > 0.0, total, 1.0), 1.0 / len(w))
 
     def _batch(self, wo, wi):
         return np.broadcast_shapes(wo.shape, wi.shape)[:-1]
@@ -290,13 +303,37 @@ class Sum(Lobe):
             return self._sample_directions(wo, u, throughput)
         if self._single:
             return self._weighted_sample(self._single[0]._sample_t(wo, u, throughput))
+        if _by_groups(self.components, wo, u, self.weights):
+            wo, u = np.broadcast_arrays(wo, u)  # one wo for a batch of uniforms
+            P = self._probabilities(wo)
+            k, _, u = choose(P, u)
+            return finished_sample(*_mixture_sample(self.components, k, wo, u, throughput,
+                                                    partial(self._combined, P)), fresh=True)
         s, wo, P = self._drawn(wo, u, throughput)  # failed samples zeroed at the end
         delta = (s.flags & int(Flags.DELTA)) != 0
         f, mix_pdf = self._eval_pdf_t(wo, s.wi, throughput, P)
         smooth_weight = divided(weighted(f, np.abs(s.wi[..., 2])),
-                                np.where(mix_pdf > 0.0, mix_pdf, 1.0))
+                                pick(mix_pdf > 0.0, mix_pdf, 1.0))
         weight = selected(delta, s.weight, masked(mix_pdf > 0.0, smooth_weight))
-        return finished_sample(s.wi, weight, np.where(delta, s.pdf, mix_pdf), s.flags)
+        return finished_sample(s.wi, weight, pick(delta, s.pdf, mix_pdf), s.flags)
+
+    def _combined(self, P, j, index, wo, s, parts):
+        """``_mixture_sample``'s (weight, pdf) of the elements ``index`` that chose component
+        j: sum_k w_k f_k |cos| over sum_k P_k pdf_k; a delta sample its own weight times
+        w_j / P_j and pdf P_j pdf_j."""
+        with np.errstate(over="ignore"):  # saturated below
+            f = self._total((fc if w is None else scaled(fc, w) for (fc, _), w
+                             in zip(parts, self.weights, strict=True)), s.wi.shape)
+        f = saturated(f)
+        P = [take_rows(Pk, index) for Pk in P]
+        pdf = sum(Pk * pk for Pk, (_, pk) in zip(P, parts, strict=True))
+        weight = masked(pdf > 0.0, divided(f, pick(pdf > 0.0, pdf, 1.0)))
+        delta = (s.flags & int(Flags.DELTA)) != 0
+        if not np.any(delta):
+            return weight, pdf
+        w, Pj = self.weights[j], P[j]
+        own = divided(s.weight if w is None else scaled(s.weight, w), pick(Pj > 0, Pj, 1.0))
+        return selected(delta, own, weight), pick(delta, Pj * s.pdf, pdf)
 
     def _sample_directions(self, wo, u, throughput):
         batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
@@ -324,11 +361,15 @@ class Sum(Lobe):
         wi, weight, pdf, flags = _chosen_samples(self.components, k, wo, u, throughput,
                                                  self.weights)
         delta = (flags & int(Flags.DELTA)) != 0
-        weight = masked(delta, divided(weight, np.where(Pk > 0, Pk, 1.0)))
-        return BSDFSample(wi, weight, np.where(delta, Pk * pdf, pdf), flags), wo, P
+        weight = masked(delta, divided(weight, pick(Pk > 0, Pk, 1.0)))
+        return BSDFSample(wi, weight, pick(delta, Pk * pdf, pdf), flags), wo, P
 
     def _delta_albedo(self, wo):
         return self._total(self._terms("_delta_albedo", wo), wo.shape[:-1] + (3,))
+
+    @property
+    def weight_is_ratio(self) -> bool:
+        return all(c.weight_is_ratio for c in self.components)
 
     @property
     def eta(self):
@@ -649,7 +690,7 @@ class Layer(Lobe):
     def _probabilities(self, wo, scaled, E_top):
         top, base = np.broadcast_arrays(*self._shares(wo, scaled, E_top))
         total = top + base
-        P_top = np.where(total > 0.0, top / np.where(total > 0.0, total, 1.0), 0.5)
+        P_top = pick(total > 0.0, top / pick(total > 0.0, total, 1.0), 0.5)
         return np.stack([P_top, 1.0 - P_top])
 
     # -- protocol ---------------------------------------------------------------------------
@@ -687,13 +728,42 @@ class Layer(Lobe):
         return self._sample_t(wo, u, None)
 
     def _sample_t(self, wo, u, throughput):
+        if _by_groups((self.top, self.base), wo, u):
+            wo, u = np.broadcast_arrays(wo, u)  # one wo for a batch of uniforms
+            scaled, E_top = self._scaled(wo)
+            P = self._probabilities(wo, scaled, E_top)
+            k, _, u = choose(P, u)
+            return finished_sample(*_mixture_sample(
+                (self.top, self.base), k, wo, u, throughput,
+                partial(self._combined, np.broadcast_to(scaled, wo.shape), P)), fresh=True)
         s, wo, scaled_top, P = self._drawn(wo, u, throughput)  # failures zeroed at the end
         delta = (s.flags & int(Flags.DELTA)) != 0
         f, pdf = self._eval_pdf_t(wo, s.wi, throughput, scaled_top, P)
         with np.errstate(divide="ignore", invalid="ignore"):
             weight = divided(weighted(f, np.abs(s.wi[..., 2])), pdf)
         weight = selected(delta, s.weight, weight)
-        return finished_sample(s.wi, weight, np.where(delta, s.pdf, pdf), s.flags)
+        return finished_sample(s.wi, weight, pick(delta, s.pdf, pdf), s.flags)
+
+    def _combined(self, scaled, P, j, index, wo, s, parts):
+        """``_mixture_sample``'s (weight, pdf) of the elements ``index`` that chose the top
+        (j = 0) or the base: (c f_top + W f_base) |cos| over P_top pdf_top + P_base pdf_base;
+        a delta sample its own weight times c or W, over P_j, and pdf P_j pdf_j."""
+        W = self._weight(wo, s.wi, take_rows(scaled, index))
+        (f_top, p_top), (f_base, p_base) = parts
+        with np.errstate(over="ignore"):  # saturated below
+            f = saturated(self.coverage[..., None] * f_top + W * f_base)
+        P_top, P_base = (take_rows(Pk, index) for Pk in P)
+        pdf = P_top * p_top + P_base * p_base
+        with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: zeroed by the caller
+            weight = divided(f, pdf)
+        delta = (s.flags & int(Flags.DELTA)) != 0
+        if not np.any(delta):
+            return weight, pdf
+        Pj = P_top if j == 0 else P_base
+        share = self.coverage[..., None] if j == 0 else W
+        with np.errstate(divide="ignore", invalid="ignore"):
+            own = divided(share * s.weight, Pj)
+        return selected(delta, own, weight), pick(delta, Pj * s.pdf, pdf)
 
     def _sample_directions(self, wo, u, throughput):
         return finished_sample(*self._drawn(wo, u, throughput)[0])
@@ -710,12 +780,12 @@ class Layer(Lobe):
         delta = (flags & int(Flags.DELTA)) != 0
         if np.any(delta):
             with np.errstate(divide="ignore", invalid="ignore"):
-                own = np.where((k == 0)[..., None], self.coverage[..., None] * weight,
+                own = pick((k == 0)[..., None], self.coverage[..., None] * weight,
                                self._weight(wo, wi, scaled) * weight) / P_k[..., None]
             weight = masked(delta, own)
         else:  # (a component's default _sample_directions weighs every sample)
             weight = np.zeros_like(weight)
-        sample = BSDFSample(wi, weight, np.where(delta, P_k * pdf, pdf), flags)
+        sample = BSDFSample(wi, weight, pick(delta, P_k * pdf, pdf), flags)
         return sample, wo, (scaled, E_top), P
 
     def _delta_albedo(self, wo):
@@ -744,6 +814,10 @@ class Layer(Lobe):
     def _sampling_weight(self, wo):
         top, base = self._shares(wo, *self._scaled(wo))
         return top + base
+
+    @property
+    def weight_is_ratio(self) -> bool:
+        return self.top.weight_is_ratio and self.base.weight_is_ratio
 
     def _energy_scale(self, wo, wi):
         return self.base._energy_scale(wo, wi)  # the top reflects only
@@ -803,9 +877,9 @@ def reciprocal_normalisation(top: Lobe, base: Lobe, seed: int = 0):
         """min over wo (axis -2) of E / I (``inside``), ignoring directions where I = 0; 1 if
         none."""
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(inside > 0.0, E / np.where(inside > 0.0, inside, 1.0), np.inf)
+            ratio = pick(inside > 0.0, E / pick(inside > 0.0, inside, 1.0), np.inf)
         least = ratio.min(-2)
-        return np.where(np.isfinite(least), least, 1.0)
+        return pick(np.isfinite(least), least, 1.0)
 
     C = smallest_ratio(energy.mean(0), inner.mean(0))
     return C, smallest_ratio(energy, inner).std(0, ddof=1) / 2.0
@@ -825,10 +899,10 @@ def coat_absorption(color, eta, w) -> np.ndarray:
     mu = np.abs(np.asarray(w)[..., 2])
     mu_t = np.sqrt(np.maximum(1.0 - (1.0 - mu * mu) / (eta * eta), 0.0))
     with np.errstate(divide="ignore"):
-        exponent = np.where(mu_t > 0.0, 0.5 / mu_t, np.inf)  # mu_t = 0: grazing, eta <= 1
+        exponent = pick(mu_t > 0.0, 0.5 / mu_t, np.inf)  # mu_t = 0: grazing, eta <= 1
     with np.errstate(divide="ignore", invalid="ignore"):
         t = color ** exponent[..., None]
-    return np.where(color == 1.0, 1.0, np.where(color == 0.0, 0.0, t))
+    return pick(color == 1.0, 1.0, pick(color == 0.0, 0.0, t))
 
 
 class Rotated(Wrapper):
@@ -883,7 +957,7 @@ class Rotated(Wrapper):
 def _mirrored(w, where=True):
     """``w`` mirrored through the surface plane (z -> -z) where ``where``."""
     z = w[..., 2]
-    return np.stack(np.broadcast_arrays(w[..., 0], w[..., 1], np.where(where, -z, z)), axis=-1)
+    return np.stack(np.broadcast_arrays(w[..., 0], w[..., 1], pick(where, -z, z)), axis=-1)
 
 
 _R, _TR = int(Flags.REFLECTION), int(Flags.TRANSMISSION)
@@ -998,15 +1072,56 @@ def choose(P, u):
     for j in range(1, len(P)):
         beyond = u0 >= cdf
         k += beyond
-        lo = np.where(beyond, cdf, lo)
-        Pk = np.where(beyond, P[j], Pk)
+        lo = pick(beyond, cdf, lo)
+        Pk = pick(beyond, P[j], Pk)
         cdf = cdf + P[j]
-    out = np.empty(batch + (3,))
+    out = np.array(np.broadcast_to(u, batch + (3,)))  # u1, u2 as they are
     with np.errstate(divide="ignore", invalid="ignore"):
-        out[..., 0] = np.clip((u0 - lo) / np.where(Pk > 0.0, Pk, 1.0), 0.0,
+        out[..., 0] = np.clip((u0 - lo) / pick(Pk > 0.0, Pk, 1.0), 0.0,
                               np.nextafter(1.0, 0))
-    out[..., 1:] = u[..., 1:]
     return k, np.array(Pk), out
+
+
+def _by_groups(components, wo, u, weights=()) -> bool:
+    """Whether a mixture of ``components`` samples by ``_mixture_sample``: a flat batch,
+    scalar parameters and weights, and sample weights that are f |cos| / pdf."""
+    return (len(np.broadcast_shapes(wo.shape, u.shape)) == 2
+            and all(c._param_shape() == () and c.weight_is_ratio for c in components)
+            and all(w is None or w.shape[:-1] == () for w in weights))
+
+
+def _mixture_sample(components, k, wo, u, throughput, combine):
+    """``(wi, weight, pdf, flags)`` of a mixture's sample, failures not zeroed, group by
+    group: the elements that chose component j (``k`` (n,)) are sampled by its ``_sample_t``
+    and every other component is evaluated (``_eval_pdf_t``) on them only, at the sampled
+    directions; component j's own f |cos| is its sample's weight times pdf (not evaluated
+    again). ``combine(j, index, wo_j, s_j, parts)`` gives the group's (weight, pdf) from
+    ``parts[i] = (f_i |cos|, pdf_i)``. ``wo``, ``u`` (n, 3); ``throughput`` None or
+    broadcastable to them."""
+    n = k.shape[0]
+    wi, weight = np.empty((n, 3)), np.empty((n, 3))
+    pdf, flags = np.empty(n), np.empty(n, dtype=np.int64)
+    paths = None if throughput is None else np.broadcast_to(throughput, u.shape)
+    for j, c in enumerate(components):
+        index = np.flatnonzero(k == j)
+        if not len(index):
+            continue
+        wo_j = _memo.rows(wo, index)  # quantities of wo kept for the batch serve its rows
+        t = None if paths is None else take_rows(paths, index)
+        s = c._sample_t(wo_j, take_rows(u, index), t)
+        cos = np.abs(s.wi[:, 2])
+        parts = []
+        for i, other in enumerate(components):
+            if i == j:
+                parts.append((weighted(s.weight, s.pdf), s.pdf))
+            else:
+                f, p = other._eval_pdf_t(wo_j, s.wi, t)
+                parts.append((weighted(f, cos), p))
+        w, p = combine(j, index, wo_j, s, parts)
+        put_rows(wi, index, s.wi)
+        put_rows(weight, index, w)
+        pdf[index], flags[index] = p, s.flags
+    return wi, weight, pdf, flags
 
 
 def _chosen_samples(components, k, wo, u, throughput, weights=None):
@@ -1024,11 +1139,11 @@ def _chosen_samples(components, k, wo, u, throughput, weights=None):
         if not flat:
             chosen = k == j
             s = c._sample_directions(wo, u, throughput)
-            wi = np.where(chosen[..., None], s.wi, wi)
-            weight = np.where(chosen[..., None], s.weight if w is None else s.weight * w,
+            wi = pick(chosen[..., None], s.wi, wi)
+            weight = pick(chosen[..., None], s.weight if w is None else s.weight * w,
                               weight)
-            pdf = np.where(chosen, s.pdf, pdf)
-            flags = np.where(chosen, s.flags, flags)
+            pdf = pick(chosen, s.pdf, pdf)
+            flags = pick(chosen, s.flags, flags)
             continue
         index = np.flatnonzero(k == j)
         if not len(index):

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.fresnel import _dielectric
 
 __all__ = ["fresnel_average", "fresnel_average_fit", "internal_reflectance", "coat_reflectance",
@@ -68,9 +69,9 @@ def fresnel_average_fit(eta) -> np.ndarray:
     1 - eta^2 (1 - E_F(1 / eta)) below (measured against ``fresnel_average`` in
     ``docs/coat_darkening.md``)."""
     eta = _params.real("eta", eta, 0.0, np.inf, lo_open=True)
-    n = np.where(eta >= 1.0, eta, 1.0 / eta)
+    n = pick(eta >= 1.0, eta, 1.0 / eta)
     fit = np.log((10893.0 * n - 1438.2) / (-774.4 * n * n + 10212.0 * n + 1.0))
-    return np.where(eta >= 1.0, fit, 1.0 - eta * eta * (1.0 - fit))
+    return pick(eta >= 1.0, fit, 1.0 - eta * eta * (1.0 - fit))
 
 
 def internal_reflectance(eta) -> np.ndarray:
@@ -114,7 +115,7 @@ def _darkening(E_b, K, T2, variant):
     """``darkening`` of validated arrays (``K`` with a trailing axis of 1 or 3)."""
     loop = K * E_b * (T2 if variant == "pr253" else 1.0)
     den = 1.0 - loop
-    return np.where(den > 0.0, (1.0 - K) / np.where(den > 0.0, den, 1.0), 1.0)
+    return pick(den > 0.0, (1.0 - K) / pick(den > 0.0, den, 1.0), 1.0)
 
 
 def base_factor(Delta, delta, T2=1.0, coverage=1.0) -> np.ndarray:

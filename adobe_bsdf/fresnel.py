@@ -39,6 +39,7 @@ import functools
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 
 __all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX",
            "gulbrandsen_to_ior", "ior_to_gulbrandsen",
@@ -88,7 +89,7 @@ def _dielectric(cos_i: np.ndarray, eta_t, eta_i=1.0) -> np.ndarray:
     apart so that k = eta^2 - 1 is formed without the rounding of the ratio (which, near
     eta = 1, would dominate the result)."""
     flip = cos_i < 0.0
-    eta_t, eta_i = np.where(flip, eta_i, eta_t), np.where(flip, eta_t, eta_i)
+    eta_t, eta_i = pick(flip, eta_i, eta_t), pick(flip, eta_t, eta_i)
     eta = eta_t / eta_i
     return _dielectric_k(np.abs(cos_i), _k_of_indices(eta_t, eta_i), eta * eta)
 
@@ -133,8 +134,8 @@ def _dielectric_k(c, k, eta2) -> np.ndarray:
     # squares can exceed 1 by an ulp, and F > 1 times a saturated D V would overflow to inf
     R = np.minimum(R, 1.0)
     if scalar:
-        return R if tir is None else np.where(tir, 1.0, R)
-    return np.where(k == 0.0, 0.0, np.where(tir, 1.0, R))
+        return R if tir is None else pick(tir, 1.0, R)
+    return pick(k == 0.0, 0.0, pick(tir, 1.0, R))
 
 
 # --- conductor ---------------------------------------------------------------------------
@@ -198,7 +199,7 @@ def _conductor_cos2(c2, A, B, matched) -> np.ndarray:
     A, B, matched = (_channel_major(x, ndim) for x in (A, B, matched))
     with np.errstate(divide="ignore", invalid="ignore"):
         R = _conductor_channel(c2, s2, two_c2, s4, A, B)
-    return np.moveaxis(np.where(matched, 0.0, R), 0, -1)
+    return np.moveaxis(pick(matched, 0.0, R), 0, -1)
 
 
 def _conductor_channel(c2, s2, two_c2, s4, A, B, out=None):
@@ -302,7 +303,7 @@ def ior_to_gulbrandsen(eta, k) -> tuple[np.ndarray, np.ndarray]:
     spread = 2.0 * s * (1.0 + s) / ((1.0 - s) * (1.0 + r))  # n_max - n_min
     with np.errstate(divide="ignore", invalid="ignore"):  # r = 0 is handled below
         g = (n_max - eta) / spread
-    return r, np.where(r > 0.0, g, 0.0)
+    return r, pick(r > 0.0, g, 0.0)
 
 
 def _channel_major(x, ndim: int) -> np.ndarray:

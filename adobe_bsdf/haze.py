@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.fresnel import gulbrandsen_to_ior
 
 __all__ = ["PEAK_MODELS", "wide_roughness", "peak_ratio", "haze_intensity",
@@ -100,7 +101,7 @@ def _ratio_and_haziness(r_c, p, haziness):
 def _intensity(r_c, p, haziness):
     """``haze_intensity`` of validated arrays."""
     with np.errstate(divide="ignore", invalid="ignore"):  # p = 1: only the first branch
-        return haziness * np.where(r_c <= p, r_c / p, (1.0 - r_c) / (1.0 - p))
+        return haziness * pick(r_c <= p, r_c / p, (1.0 - r_c) / (1.0 - p))
 
 
 def haze_intensity(r_c, p, haziness):
@@ -146,7 +147,7 @@ def _bezier_parameter(x, p, w):
     root = np.sqrt((b - 2.0 * x) ** 2 + 4.0 * x * (1.0 - x))
     positive = b > 0.0
     with np.errstate(divide="ignore", invalid="ignore"):  # each form where it is regular
-        u = np.where(positive, 2.0 * x / (b + root), (b - root) / (2.0 * (b - 1.0)))
+        u = pick(positive, 2.0 * x / (b + root), (b - root) / (2.0 * (b - 1.0)))
     return np.clip(u, 0.0, 1.0)  # removes rounding only
 
 
@@ -223,13 +224,13 @@ def haze_mapping(core_reflectivity, haziness, haze_extent, alpha_x, alpha_y=None
     k_h = _intensity(r_hat_c, p, h) if w is None else _intensity_smooth(r_hat_c, p, h, w)
     r_hat = r_hat_c + (1.0 - p) * k_h
     with np.errstate(divide="ignore", invalid="ignore"):  # r^_c = 0: no haze
-        scale = np.where(r_hat_c > 0.0, r_hat / r_hat_c, 1.0)
-        beta = np.where(r_hat > 0.0, np.minimum(k_h / r_hat, 1.0), 0.0)  # (rounding: eq. 6)
+        scale = pick(r_hat_c > 0.0, r_hat / r_hat_c, 1.0)
+        beta = pick(r_hat > 0.0, np.minimum(k_h / r_hat, 1.0), 0.0)  # (rounding: eq. 6)
     r = np.minimum(r_c * scale[..., None], 1.0)  # (1 + rounding: r <= 1 by eq. 6)
     mirror = r >= 1.0
-    eta, kappa = gulbrandsen_to_ior(np.where(mirror, 0.0, r), g)
-    eta = np.where(mirror, np.inf, eta)
-    kappa = np.where(mirror, np.inf, kappa)
+    eta, kappa = gulbrandsen_to_ior(pick(mirror, 0.0, r), g)
+    eta = pick(mirror, np.inf, eta)
+    kappa = pick(mirror, np.inf, kappa)
     return HazeMapping(r, eta, kappa, beta, (ax, ay), alpha_w, p, k_h)
 
 

@@ -160,6 +160,9 @@ class LayeredReference(Lobe):
     seed : int >= 0
     """
 
+    #: its sample weight is one walk's estimate, not f |cos| / pdf of its estimates
+    weight_is_ratio = False
+
     def __init__(self, top: Lobe, base: Lobe, thickness=0.0, medium_albedo=0.0, g=0.0,
                  n_samples: int = 64, max_depth: int = 256, seed: int = 0):
         for name, lobe in (("top", top), ("base", base)):

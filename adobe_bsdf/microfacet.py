@@ -27,6 +27,7 @@ import numpy as np
 from scipy import special
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.frame import dot
 from adobe_bsdf.sampling import azimuth
 
@@ -71,9 +72,9 @@ def rescaled(hx, hy, hz, length2):
     if not np.any(small):
         return hx, hy, hz, length2
     largest = np.maximum(np.maximum(np.abs(hx), np.abs(hy)), np.abs(hz))
-    exponent = np.where(small, -np.frexp(largest)[1], 0)
+    exponent = pick(small, -np.frexp(largest)[1], 0)
     hx, hy, hz = (np.ldexp(c, exponent) for c in (hx, hy, hz))
-    return hx, hy, hz, np.where(small, hx * hx + hy * hy + hz * hz, length2)
+    return hx, hy, hz, pick(small, hx * hx + hy * hy + hz * hz, length2)
 
 
 def _stack(x, y, z) -> np.ndarray:
@@ -105,12 +106,12 @@ class _Distribution(_params.Validated):
         """Store validated alphas (float64 arrays) and derive the smooth limit."""
         ax, ay = np.broadcast_arrays(ax, ay)
         self.smooth = (ax < ALPHA_MIN) & (ay < ALPHA_MIN)
-        self.alpha_x = np.where(self.smooth, ax, np.maximum(ax, ALPHA_MIN))
-        self.alpha_y = np.where(self.smooth, ay, np.maximum(ay, ALPHA_MIN))
+        self.alpha_x = pick(self.smooth, ax, np.maximum(ax, ALPHA_MIN))
+        self.alpha_y = pick(self.smooth, ay, np.maximum(ay, ALPHA_MIN))
         self.masking = masking
         # safe alphas for the divisions below (the smooth elements are masked afterwards)
-        self._ax = np.where(self.smooth, 1.0, self.alpha_x)
-        self._ay = np.where(self.smooth, 1.0, self.alpha_y)
+        self._ax = pick(self.smooth, 1.0, self.alpha_x)
+        self._ay = pick(self.smooth, 1.0, self.alpha_y)
         self._pi_ax_ay = np.pi * self._ax * self._ay
 
     def __repr__(self) -> str:
@@ -145,7 +146,7 @@ class _Distribution(_params.Validated):
         """w' = sign(w.z) w stretched to the alpha = 1 configuration and normalised, on
         components: (ax w'x, ay w'y, |w.z|) / |...|, the first step of visible-normal
         sampling (smooth elements use alpha = 1; their samples are replaced)."""
-        sign = np.where(wz < 0.0, -1.0, 1.0)
+        sign = pick(wz < 0.0, -1.0, 1.0)
         x = self._ax * wx
         x *= sign
         y = self._ay * wy
@@ -184,7 +185,7 @@ class _Distribution(_params.Validated):
         """Smith masking G1(w) = 1 / (1 + Lambda(w)) = 2 |wz| / (|wz| + S(w)); 0 at wz = 0."""
         w = np.asarray(w, dtype=np.float64)
         z, s = self._projected_alpha(w)
-        return np.where(z > 0.0, 2.0 * z / np.where(z > 0.0, z + s, 1.0), 0.0)
+        return pick(z > 0.0, 2.0 * z / pick(z > 0.0, z + s, 1.0), 0.0)
 
     def G2(self, wo, wi) -> np.ndarray:
         """Masking-shadowing of the pair (reflection or transmission; |cos| is used).
@@ -197,7 +198,7 @@ class _Distribution(_params.Validated):
         zo, so = self._projected_alpha(np.asarray(wo, dtype=np.float64))
         zi, si = self._projected_alpha(np.asarray(wi, dtype=np.float64))
         den = zi * so + zo * si
-        return np.where(den > 0.0, 2.0 * zo * zi / np.where(den > 0.0, den, 1.0), 0.0)
+        return pick(den > 0.0, 2.0 * zo * zi / pick(den > 0.0, den, 1.0), 0.0)
 
     def V(self, wo, wi) -> np.ndarray:
         """Visibility V = G2(wo, wi) / (4 |cos theta_o| |cos theta_i|), without cancellation.
@@ -212,7 +213,7 @@ class _Distribution(_params.Validated):
             den = (zo + so) * (zi + si)
         else:
             den = 2.0 * (zi * so + zo * si)
-        return np.where(den > 0.0, 1.0 / np.where(den > 0.0, den, 1.0), 0.0)
+        return pick(den > 0.0, 1.0 / pick(den > 0.0, den, 1.0), 0.0)
 
     def G2_over_G1(self, wo, wi) -> np.ndarray:
         """G2(wo, wi) / G1(wo): the weight of visible-normal sampling without Fresnel.
@@ -224,7 +225,7 @@ class _Distribution(_params.Validated):
         zo, so = self._projected_alpha(np.asarray(wo, dtype=np.float64))
         zi, si = self._projected_alpha(np.asarray(wi, dtype=np.float64))
         den = zi * so + zo * si
-        return np.where(den > 0.0, zi * (zo + so) / np.where(den > 0.0, den, 1.0), 0.0)
+        return pick(den > 0.0, zi * (zo + so) / pick(den > 0.0, den, 1.0), 0.0)
 
     def V_of(self, abs_zo, s_o, abs_zi, s_i):
         """Visibility G2 / (4 |cos o| |cos i|) from |wz| and S of both directions (``V``), at
@@ -253,9 +254,9 @@ class _Distribution(_params.Validated):
         w = np.asarray(w, dtype=np.float64)
         m = np.asarray(m, dtype=np.float64)
         z, s = self._projected_alpha(w)
-        sign = np.where(w[..., 2] < 0.0, -1.0, 1.0)
+        sign = pick(w[..., 2] < 0.0, -1.0, 1.0)
         cos_wm = np.maximum(0.0, sign * dot(w, m))
-        return np.where(s > 0.0, 2.0 * cos_wm * self.D(m) / np.where(s > 0.0, z + s, 1.0), 0.0)
+        return pick(s > 0.0, 2.0 * cos_wm * self.D(m) / pick(s > 0.0, z + s, 1.0), 0.0)
 
     def sample_visible(self, w, u2) -> np.ndarray:
         """Sample a microfacet normal m with density ``pdf_visible(w, m)`` (``u2`` of shape
@@ -293,7 +294,7 @@ class GGX(_Distribution):
         m = np.asarray(m, dtype=np.float64)
         e = (m[..., 0] / self._ax) ** 2 + (m[..., 1] / self._ay) ** 2 + m[..., 2] ** 2
         ok = (m[..., 2] > 0.0) & ~self.smooth
-        return np.where(ok, 1.0 / (np.pi * self._ax * self._ay * np.where(ok, e * e, 1.0)), 0.0)
+        return pick(ok, 1.0 / (np.pi * self._ax * self._ay * pick(ok, e * e, 1.0)), 0.0)
 
     def lambda_(self, w) -> np.ndarray:
         """Smith Lambda(w) = (sqrt(1 + (ax^2 wx^2 + ay^2 wy^2)/wz^2) - 1) / 2 [Heitz2014, eq. 86].
@@ -304,8 +305,8 @@ class GGX(_Distribution):
         w = np.asarray(w, dtype=np.float64)
         z, s = self._projected_alpha(w)
         s2 = s * s - z * z
-        lam = np.where(z > 0.0, s2 / np.where(z > 0.0, 2.0 * z * (z + s), 1.0), np.inf)
-        return np.where(self.smooth & (z > 0.0), 0.0, lam)
+        lam = pick(z > 0.0, s2 / pick(z > 0.0, 2.0 * z * (z + s), 1.0), np.inf)
+        return pick(self.smooth & (z > 0.0), 0.0, lam)
 
     # -- component forms for the lobes' kernels (no validation, no stacking) ---------------
     def projected(self, x, y, abs_z):
@@ -335,7 +336,7 @@ class GGX(_Distribution):
         q *= q
         q *= self._pi_ax_ay
         D = np.divide(length2 * length2, q)
-        return D if upper else np.where(hz > 0.0, D, 0.0)
+        return D if upper else pick(hz > 0.0, D, 0.0)
 
     # -- visible normals ------------------------------------------------------------------
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
@@ -351,7 +352,7 @@ class GGX(_Distribution):
         my = (sin_t * sin_p + y) * ay
         mx, my, mz = _normalize(mx, my, cz + z)
         if np.any(self.smooth):
-            mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
+            mx, my, mz = (pick(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
                                                                    (1.0, mz)))
         return mx, my, mz
 
@@ -374,7 +375,7 @@ class Beckmann(_Distribution):
         m = np.asarray(m, dtype=np.float64)
         ok = (m[..., 2] > 0.0) & ~self.smooth
         length2 = np.sum(m * m, axis=-1)
-        return np.where(ok, self.D_of_sum(m[..., 0], m[..., 1], m[..., 2], length2), 0.0)
+        return pick(ok, self.D_of_sum(m[..., 0], m[..., 1], m[..., 2], length2), 0.0)
 
     def lambda_(self, w) -> np.ndarray:
         """Smith Lambda(w), written as exp(-a^2) (1 / (a sqrt(pi)) - erfcx(a)) / 2 (erfc(a) =
@@ -384,8 +385,8 @@ class Beckmann(_Distribution):
         with np.errstate(divide="ignore", invalid="ignore"):
             a = z / t  # inf at normal incidence, 0 at grazing
             lam = 0.5 * np.exp(-a * a) * (1.0 / (a * np.sqrt(np.pi)) - special.erfcx(a))
-        lam = np.where(t == 0.0, 0.0, np.where(z == 0.0, np.inf, lam))
-        return np.where(self.smooth & (z > 0.0), 0.0, lam)
+        lam = pick(t == 0.0, 0.0, pick(z == 0.0, np.inf, lam))
+        return pick(self.smooth & (z > 0.0), 0.0, lam)
 
     def projected(self, x, y, abs_z):
         """S(w) = |wz| erf(a) + t exp(-a^2) / sqrt(pi), with t = sqrt(ax^2 wx^2 + ay^2 wy^2)
@@ -395,7 +396,7 @@ class Beckmann(_Distribution):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # a = inf: erf 1
             a = abs_z / t
             s = abs_z * special.erf(a) + t * np.exp(-a * a) / np.sqrt(np.pi)
-        return np.where(t > 0.0, s, np.abs(abs_z))  # |wz| at normal incidence, either side
+        return pick(t > 0.0, s, np.abs(abs_z))  # |wz| at normal incidence, either side
 
     def D_of_sum(self, hx, hy, hz, length2, upper: bool = False):
         """D(h / |h|) of an unnormalised h: exp(-((hx/ax)^2 + (hy/ay)^2) / hz^2) |h|^4 /
@@ -406,8 +407,8 @@ class Beckmann(_Distribution):
             g = np.exp(-((hx / self._ax) ** 2 + (hy / self._ay) ** 2) / hz2)
             # exp(-e) = 0 (underflow, or h in the tangent plane) is the limit D = 0: the
             # other factor, (1 + tan^2)^2 / (pi ax ay), may then overflow
-            D = np.where(g > 0.0, g * (length2 / hz2) ** 2 / self._pi_ax_ay, 0.0)
-        return D if upper else np.where(hz > 0.0, D, 0.0)
+            D = pick(g > 0.0, g * (length2 / hz2) ** 2 / self._pi_ax_ay, 0.0)
+        return D if upper else pick(hz > 0.0, D, 0.0)
 
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
         """Visible normal (mx, my, mz) after [HeitzdEon2014].
@@ -425,8 +426,8 @@ class Beckmann(_Distribution):
         sx, sy, sz = self._stretched_direction(wx, wy, wz)
         sin_t = np.hypot(sx, sy)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # sin_t subnormal
-            cos_p = np.where(sin_t > 0.0, sx / sin_t, 1.0)
-            sin_p = np.where(sin_t > 0.0, sy / sin_t, 0.0)
+            cos_p = pick(sin_t > 0.0, sx / sin_t, 1.0)
+            sin_p = pick(sin_t > 0.0, sy / sin_t, 0.0)
             mu = sz / sin_t  # +inf at normal incidence
         tiny = 2.0**-54  # the smallest u with 2 u - 1 > -1
         u0 = np.broadcast_to(np.maximum(u0, tiny), shape)
@@ -437,7 +438,7 @@ class Beckmann(_Distribution):
         py = self.alpha_y * (sin_p * x + cos_p * y)
         mx, my, mz = _normalize(-px, -py, np.ones(shape))
         if np.any(self.smooth):
-            mx, my, mz = (np.where(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
+            mx, my, mz = (pick(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
                                                                    (1.0, mz)))
         return mx, my, mz
 
@@ -454,7 +455,7 @@ def _beckmann_visible_slope(mu, u):
     x0 = special.erfinv(2.0 * u - 1.0)
     if normal.all():
         return x0
-    m = np.where(normal, 0.0, mu)  # finite stand-in, replaced below
+    m = pick(normal, 0.0, mu)  # finite stand-in, replaced below
     root_pi_2 = 0.5 * np.sqrt(np.pi)
 
     def n_of(x):
@@ -468,18 +469,18 @@ def _beckmann_visible_slope(mu, u):
     active = ~normal  # an element stops at its own convergence: no batch dependence
     for _ in range(100):
         g = n_of(x) - target
-        lo = np.where(g < 0.0, x, lo)
-        hi = np.where(g > 0.0, x, hi)
+        lo = pick(g < 0.0, x, lo)
+        hi = pick(g > 0.0, x, hi)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             step = x - g / ((m - x) * np.exp(-x * x))  # not finite: bisection instead
         inside = (step > lo) & (step < hi)
-        new = np.where(inside, step, 0.5 * (lo + hi))
+        new = pick(inside, step, 0.5 * (lo + hi))
         done = (g == 0.0) | (np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x)))
-        x = np.where(active & (g != 0.0), new, x)
+        x = pick(active & (g != 0.0), new, x)
         active &= ~done
         if not active.any():
             break
-    return np.where(normal, x0, x)
+    return pick(normal, x0, x)
 
 
 #: the microfacet models a lobe can be built on (``distribution``)
@@ -569,8 +570,8 @@ class Mixture(_Distribution):
         p_n /= z + self.projected(wx, wy, z)
         narrow = u0 < p_n
         with np.errstate(divide="ignore", invalid="ignore"):
-            u0 = np.where(narrow, u0 / p_n, (u0 - p_n) / (1.0 - p_n))
+            u0 = pick(narrow, u0 / p_n, (u0 - p_n) / (1.0 - p_n))
         u0 = np.clip(u0, 0.0, np.nextafter(1.0, 0.0))  # removes rounding only
         m_n = self.narrow.sample_visible_xyz(wx, wy, wz, u0, u1)
         m_w = self.wide.sample_visible_xyz(wx, wy, wz, u0, u1)
-        return tuple(np.where(narrow, a, b) for a, b in zip(m_n, m_w, strict=True))
+        return tuple(pick(narrow, a, b) for a, b in zip(m_n, m_w, strict=True))

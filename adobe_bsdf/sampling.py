@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from adobe_bsdf._channels import pick
+
 __all__ = ["unit_circle", "azimuth", "concentric_disk", "cosine_hemisphere",
            "henyey_greenstein_cos", "G_ISOTROPIC"]
 
@@ -37,10 +39,10 @@ def concentric_disk(u2) -> np.ndarray:
     a = 2.0 * u2[..., 0] - 1.0
     b = 2.0 * u2[..., 1] - 1.0
     first = np.abs(a) > np.abs(b)
-    r = np.where(first, a, b)
-    ratio = np.where(first, b, a) / np.where(r == 0.0, 1.0, r)  # in [-1, 1]
+    r = pick(first, a, b)
+    ratio = pick(first, b, a) / pick(r == 0.0, 1.0, r)  # in [-1, 1]
     cos, sin = unit_circle((np.pi / 8.0) * ratio)
-    return np.stack([r * np.where(first, cos, sin), r * np.where(first, sin, cos)], axis=-1)
+    return np.stack([r * pick(first, cos, sin), r * pick(first, sin, cos)], axis=-1)
 
 
 def cosine_hemisphere(u2) -> np.ndarray:
@@ -57,8 +59,8 @@ def henyey_greenstein_cos(u, g) -> np.ndarray:
     ``G_ISOTROPIC``."""
     g = np.asarray(g, dtype=np.float64)
     small = np.abs(g) < G_ISOTROPIC
-    safe = np.where(small, 1.0, g)
+    safe = pick(small, 1.0, g)
     with np.errstate(divide="ignore", invalid="ignore"):
         s = (1.0 - safe * safe) / (1.0 - safe + 2.0 * safe * u)
         cos = (1.0 + safe * safe - s * s) / (2.0 * safe)
-    return np.clip(np.where(small, 1.0 - 2.0 * u, cos), -1.0, 1.0)
+    return np.clip(pick(small, 1.0 - 2.0 * u, cos), -1.0, 1.0)

@@ -64,3 +64,26 @@ def test_row_selection_is_numpys_whatever_the_share(share):
         ch.put_rows(out, index, values)
         expected[index] = values
         np.testing.assert_array_equal(_bits(out), _bits(expected))
+
+
+@pytest.mark.parametrize("share", [0.0, 0.03, 0.5, 0.97, 1.0])
+def test_pick_is_numpys_where_bit_for_bit(share):
+    """``pick`` selects bits (NaN payloads, signed zeros, infinities kept) where the mask is
+    unpredictable and is ``np.where`` elsewhere: the same bits and dtype for arrays,
+    strided views, scalars and small batches."""
+    rng = np.random.default_rng(7)
+    a, b = rng.normal(size=(2, N))
+    a[::7], b[::5], a[::11] = -0.0, np.nan, np.inf
+    mask = rng.random(N) < share
+    strided = rng.normal(size=(N, 3))[:, 2]
+    cases = [(a, b), (a, 0.0), (1.0, b), (np.float64(-0.0), strided), (strided, a),
+             (np.asarray(2.5), b)]
+    for x, y in cases:
+        for m, xx, yy in [(mask, x, y), (mask[:10], *(v[:10] if np.ndim(v) else v
+                                                        for v in (x, y)))]:
+            got, expected = ch.pick(m, xx, yy), np.where(m, xx, yy)
+            assert got.dtype == expected.dtype and got.shape == expected.shape
+            np.testing.assert_array_equal(_bits(got), _bits(expected))
+    # what it passes on: integer values, both scalars, a broadcast mask
+    for args in [(mask, np.arange(N), 0), (mask, 1.0, 0.0), (mask[:, None], a[:, None], b)]:
+        np.testing.assert_array_equal(ch.pick(*args), np.where(*args))

@@ -81,3 +81,35 @@ def test_a_layered_material_computes_its_diffuse_energy_once_per_direction(monke
     assert len(calls) > 2, "the memo did not remove anything"
     np.testing.assert_array_equal(f, f_plain)
     np.testing.assert_array_equal(pdf, pdf_plain)
+
+
+def test_rows_of_an_array_take_the_rows_of_its_kept_value():
+    """``rows(w, index)`` links the gathered array to ``w``: ``once`` on it takes the rows of
+    the value kept for ``w`` (each part of a tuple; a part that broadcasts as is) without
+    computing; outside a scope, or below ``ROWS_MIN`` rows, it computes."""
+    owner, count = object(), _Counter()
+    rng = np.random.default_rng(2)
+    w = rng.normal(size=(200, 3))
+    index = np.array([5, 0, 199, 17])
+
+    def pair(w):
+        count.calls += 1
+        return w[..., 2] * 2.0, np.ones(3)
+
+    with _memo.scope():
+        part = _memo.rows(w, index)
+        np.testing.assert_array_equal(part, w[index])
+        assert _memo.once(owner, "x", part, pair)[0].tolist() == (w[index, 2] * 2.0).tolist()
+        assert count.calls == 1  # nothing kept for w yet: computed on the rows
+        full = _memo.once(owner, "x", w, pair)
+        again = _memo.rows(w, index)
+        value = _memo.once(owner, "x", again, pair)
+        assert count.calls == 2
+        np.testing.assert_array_equal(value[0], full[0][index])
+        assert value[1] is full[1]
+        small = w[:_memo.ROWS_MIN - 1]
+        _memo.once(owner, "x", small, pair)
+        _memo.once(owner, "x", _memo.rows(small, [0, 1]), pair)
+        assert count.calls == 4
+    _memo.once(owner, "x", _memo.rows(w, index), pair)
+    assert count.calls == 5

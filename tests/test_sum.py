@@ -94,3 +94,49 @@ def test_single_component_samples_as_the_component(weight):
     np.testing.assert_allclose(s.pdf[ok], pdf, rtol=1e-13, atol=0)
     np.testing.assert_allclose(s.weight[ok], f * np.abs(s.wi[ok, 2:]) / pdf[:, None],
                                rtol=1e-14, atol=0)
+
+
+class _Counted(Lambert):
+    """A Lambert that records the rows each eval_pdf is asked for."""
+
+    def __init__(self, *args):
+        super().__init__(*args)
+        self.rows = []
+
+    def _eval_pdf_t(self, wo, wi, throughput):
+        self.rows.append(len(wo))
+        return super()._eval_pdf_t(wo, wi, throughput)
+
+
+def test_a_sample_evaluates_only_the_components_it_did_not_draw_from():
+    """Each component is sampled on the elements that chose it and evaluated only on the
+    others; the chosen one's f |cos| is its sample's weight times pdf, so the mixture's
+    samples agree with its eval and pdf to rounding."""
+    lambert, conductor = _Counted(0.5), Conductor(0.3, 0.1)
+    mix = Sum(lambert, conductor, weights=[0.4, (0.9, 0.6, 0.3)])
+    wo, _, u = _pairs(6000)
+    P = mix._probabilities(wo)
+    chose_conductor = u[:, 0] >= P[0]
+    s = mix.sample(wo, u)
+    assert lambert.rows == [np.count_nonzero(chose_conductor)]
+    ok = s.pdf > 0
+    assert np.count_nonzero(ok) > 4000
+    f, pdf = mix.eval(wo[ok], s.wi[ok]), mix.pdf(wo[ok], s.wi[ok])
+    np.testing.assert_allclose(s.pdf[ok], pdf, rtol=1e-12)
+    np.testing.assert_allclose(s.weight[ok], f * np.abs(s.wi[ok, 2:]) / pdf[:, None],
+                               rtol=1e-12)
+
+
+def test_a_stochastic_component_is_evaluated_at_its_own_samples():
+    """A component whose sample weight is an estimate (``weight_is_ratio`` False: the
+    layered reference) is weighed by its eval, as every component is with textures."""
+    from adobe_bsdf.composition import Layer, _by_groups
+    from adobe_bsdf.layered import LayeredReference
+    from adobe_bsdf.lobes import Dielectric
+
+    walk = LayeredReference(Dielectric(1.5, 0.3), Lambert(0.5), n_samples=2)
+    wo, _, u = _pairs(10)
+    for mixture in (Sum(walk, Lambert()), Layer(Conductor(0.2), walk)):
+        assert not mixture.weight_is_ratio
+    assert not _by_groups((walk, Lambert()), wo, u)
+    assert _by_groups((Conductor(0.2), Lambert()), wo, u)

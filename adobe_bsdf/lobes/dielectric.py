@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import (
@@ -46,7 +47,7 @@ def _light_side(eta, side):
     if np.ndim(eta) == 0:
         return _seen_from(eta, 1.0 if dense else -1.0), (side > 0.0) == dense
     above, below = _seen_from(eta, 1.0), _seen_from(eta, -1.0)
-    return (tuple(np.where(dense, a, b) for a, b in zip(above, below, strict=True)),
+    return (tuple(pick(dense, a, b) for a, b in zip(above, below, strict=True)),
             (side > 0.0) == dense)
 
 
@@ -180,7 +181,7 @@ class Dielectric(Lobe):
         if d.smooth.ndim or self.eta.ndim:  # a texture: smooth or pass-through elements
             off = d.smooth | (self.passes if self.passes.ndim == 0 else np.broadcast_to(
                 self.passes, batch).reshape(-1)[index])
-            value = [None if v is None else np.where(off, 0.0, v) for v in value]
+            value = [None if v is None else pick(off, 0.0, v) for v in value]
         if f is not None:
             f[index] = saturated(value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi)))
         if pdf is not None:
@@ -222,19 +223,19 @@ class Dielectric(Lobe):
         length2 += hz * hz
         # h turned up; a facet in the tangent plane (hz = 0, a sampled normal with mz ~ 1e-16
         # rounds there) is turned to face wo, as the sampler's normal did
-        inv = np.copysign(1.0 / np.sqrt(length2), np.where(hz != 0.0, hz, ox * hx + oy * hy))
+        inv = np.copysign(1.0 / np.sqrt(length2), pick(hz != 0.0, hz, ox * hx + oy * hy))
         cos_oh = ox * hx + oy * hy + zo * hz
         cos_oh *= inv
         cos_ih = ix * hx + iy * hy + zi * hz
         cos_ih *= inv
         (k, eta2), light = _light_side(eta, side)
-        F = _dielectric_k(np.abs(np.where(light, cos_oh, cos_ih)) if np.ndim(light)
+        F = _dielectric_k(np.abs(pick(light, cos_oh, cos_ih)) if np.ndim(light)
                           else np.abs(cos_oh if light else cos_ih), k, eta2)
         den_t = eta_o * cos_oh
         den_t += eta_i * cos_ih
         T = 4.0 * cos_oh * np.abs(cos_ih) * (1.0 - F) / (den_t * den_t)
         valid = (cos_oh > 0.0) & (cos_ih < 0.0)
-        T = np.where(valid, T, 0.0)
+        T = pick(valid, T, 0.0)
         D = d.D_of_sum(hx, hy, np.abs(hz), length2, upper=True)  # the horizon's limit at hz = 0
         return [eta_o * eta_o * T * D if want_f else None,
                 eta_i * eta_i * T if want_pdf else None], D / (2.0 * (zo + s_o))
@@ -258,7 +259,7 @@ class Dielectric(Lobe):
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
         below = oz < 0.0
         zo = np.abs(oz)
-        eta = np.where(below, 1.0 / self.eta, self.eta)  # n on the far side / n on wo's side
+        eta = pick(below, 1.0 / self.eta, self.eta)  # n on the far side / n on wo's side
         shape = np.broadcast_shapes(eta.shape, u.shape[:-1], d.smooth.shape)
         smooth = np.broadcast_to(d.smooth, shape)
         mx, my, mz = d.sample_visible_xyz(ox, oy, zo, u[..., 1], u[..., 2])
@@ -268,38 +269,38 @@ class Dielectric(Lobe):
         refracted = sin2_t < 1.0
         cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))  # |wt.m|
         # F as _refract computes it: from the less dense side (TIR where nothing refracts)
-        (k, eta2), light = _light_side(self.eta, np.where(below, -1.0, 1.0))
-        F = np.where(refracted, _dielectric_k(np.where(light, cos_om, cos_t), k, eta2), 1.0)
+        (k, eta2), light = _light_side(self.eta, pick(below, -1.0, 1.0))
+        F = pick(refracted, _dielectric_k(pick(light, cos_om, cos_t), k, eta2), 1.0)
         choose_r = u[..., 0] < F
         # wi = a m - b wo: reflection 2 (wo.m) m - wo, refraction (cos_om / eta - cos_t) m
         # - wo / eta
-        a = np.where(choose_r, 2.0 * cos_om, inv_eta * cos_om - cos_t)
-        b = np.where(choose_r, 1.0, inv_eta)
+        a = pick(choose_r, 2.0 * cos_om, inv_eta * cos_om - cos_t)
+        b = pick(choose_r, 1.0, inv_eta)
         ix, iy, iz = a * mx - b * ox, a * my - b * oy, a * mz - b * zo
-        ok = (zo > 0.0) & (cos_om > 0.0) & np.where(choose_r, iz > 0.0, refracted & (iz < 0.0))
+        ok = (zo > 0.0) & (cos_om > 0.0) & pick(choose_r, iz > 0.0, refracted & (iz < 0.0))
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, zo)
-            g = np.where(smooth, 1.0,
+            g = pick(smooth, 1.0,
                          d.G2_over_G1_of(zo, s_o, np.abs(iz), d.projected(ix, iy, iz)))
             P = d.D_of_sum(mx, my, mz, 1.0) / (2.0 * (zo + s_o))  # D_wo(m) / (4 wo.m)
             den_t = cos_om - eta * cos_t  # 0 only for eta = 1 (handled below)
             pdf_t = (1.0 - F) * 4.0 * cos_om * P * eta * eta * cos_t / (den_t * den_t)
-            pdf = np.where(smooth, np.where(choose_r, F, 1.0 - F),
-                           np.where(choose_r, F * P, pdf_t))
-        weight = np.where(choose_r, g, g / (eta * eta))  # radiance: eta_o^2 / eta_i^2
-        lobe = np.where(smooth, int(Flags.DELTA), int(Flags.GLOSSY))
-        flags = lobe | np.where(choose_r, int(Flags.REFLECTION), int(Flags.TRANSMISSION))
+            pdf = pick(smooth, pick(choose_r, F, 1.0 - F),
+                           pick(choose_r, F * P, pdf_t))
+        weight = pick(choose_r, g, g / (eta * eta))  # radiance: eta_o^2 / eta_i^2
+        lobe = pick(smooth, int(Flags.DELTA), int(Flags.GLOSSY))
+        flags = lobe | pick(choose_r, int(Flags.REFLECTION), int(Flags.TRANSMISSION))
         # a pass-through: the light goes straight on, with the energy of the lobe
         passes = np.broadcast_to(self.passes, shape)
         if np.any(passes):
-            ix, iy, iz = (np.where(passes, -c, i) for c, i in ((ox, ix), (oy, iy), (zo, iz)))
-            ok = np.where(passes, zo != 0.0, ok)
-            weight = np.where(passes, self._pass_energy(ox, oy, zo) / (eta * eta), weight)
-            pdf = np.where(passes, 1.0, pdf)
-            flags = np.where(passes, int(Flags.TRANSMISSION | Flags.DELTA), flags)
-        wi = np.stack(np.broadcast_arrays(ix, iy, np.where(below, -iz, iz)), axis=-1)
+            ix, iy, iz = (pick(passes, -c, i) for c, i in ((ox, ix), (oy, iy), (zo, iz)))
+            ok = pick(passes, zo != 0.0, ok)
+            weight = pick(passes, self._pass_energy(ox, oy, zo) / (eta * eta), weight)
+            pdf = pick(passes, 1.0, pdf)
+            flags = pick(passes, int(Flags.TRANSMISSION | Flags.DELTA), flags)
+        wi = np.stack(np.broadcast_arrays(ix, iy, pick(below, -iz, iz)), axis=-1)
         return finished_sample(wi, np.repeat(weight[..., None], 3, axis=-1), pdf,
-                               np.where(ok, flags, int(Flags.NONE)))
+                               pick(ok, flags, int(Flags.NONE)))
 
     def _pass_energy(self, ox, oy, zo):
         """Energy a pass-through carries from ``wo`` (``zo`` = |cos o| > 0): 1 where
@@ -313,7 +314,7 @@ class Dielectric(Lobe):
             # subnormal cosines (0 / 0); correlated (1 + L) / (1 + 2 L) = (zo + S) / (2 S)
             limit = (2.0 * zo / (zo + s_o) if d.masking == "separable"
                      else (zo + s_o) / (2.0 * s_o))
-        return np.where((self.eta == 1.0) | d.smooth, 1.0, limit)
+        return pick((self.eta == 1.0) | d.smooth, 1.0, limit)
 
     def _delta_albedo(self, wo):
         """The delta branches' energy (0 where ``wo`` is grazing): 1 where the interface is
@@ -326,11 +327,11 @@ class Dielectric(Lobe):
         delta = (self.distribution.smooth | self.passes) & (wo[..., 2] != 0.0)
         energy = (self._pass_energy(wo[..., 0], wo[..., 1], np.abs(wo[..., 2]))
                   if np.any(self.passes) else 1.0)  # else only smooth elements: 1
-        return np.where(delta, energy, 0.0)[..., None] * np.ones(3)
+        return pick(delta, energy, 0.0)[..., None] * np.ones(3)
 
 
 def interface_energy_scale(eta, wo, wi):
     """(eta_i / eta_o)^2 for transmission pairs across an interface of relative index
     ``eta`` = n_below / n_above, 1 for reflection pairs (design.md)."""
-    eta = np.where(wo[..., 2] < 0.0, 1.0 / eta, eta)
-    return np.where(wo[..., 2] * wi[..., 2] < 0.0, eta * eta, 1.0)
+    eta = pick(wo[..., 2] < 0.0, 1.0 / eta, eta)
+    return pick(wo[..., 2] * wi[..., 2] < 0.0, eta * eta, 1.0)

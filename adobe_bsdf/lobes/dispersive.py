@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, fresnel
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.composition import choose, sample_where
 from adobe_bsdf.dispersion import RGB_WAVELENGTHS_NM, cauchy, wavelengths
@@ -26,14 +27,14 @@ def channel_probabilities(throughput, shape=()) -> np.ndarray:
     if throughput is None:
         return np.full(tuple(shape) + (3,), 1.0 / 3.0)
     total = throughput.sum(axis=-1, keepdims=True)
-    return np.where(total > 0.0, throughput / np.where(total > 0.0, total, 1.0), 1.0 / 3.0)
+    return pick(total > 0.0, throughput / pick(total > 0.0, total, 1.0), 1.0 / 3.0)
 
 
 def _channel_indices(eta, dispersion, wavelengths_nm):
     """eta_c per channel ``(..., 3)``: Cauchy's indices of the dense side, n_d = max(eta,
     1/eta), as seen from above (inverted where the dense medium is above, eta < 1)."""
     dense = eta >= 1.0
-    n_d = np.where(dense, eta, 1.0 / eta)
+    n_d = pick(dense, eta, 1.0 / eta)
     n_c = cauchy(n_d, dispersion, wavelengths_nm)
     crossed = (n_c <= 1.0) & (n_d[..., None] > 1.0)
     if np.any(crossed):
@@ -41,7 +42,7 @@ def _channel_indices(eta, dispersion, wavelengths_nm):
         raise ValueError(f"dispersion = {bad!r} takes a channel's index to 1 or below for "
                          f"eta = {np.broadcast_to(eta[..., None], crossed.shape)[crossed][0]!r};"
                          " allowed: dispersions that keep every channel's index above 1")
-    return np.where(dense[..., None], n_c, 1.0 / n_c)
+    return pick(dense[..., None], n_c, 1.0 / n_c)
 
 
 class Dispersive(Lobe):
@@ -196,16 +197,16 @@ class Dispersive(Lobe):
         for c, ch in zip(_CHANNELS, self.channels, strict=True):
             chosen = k == c
             s = sample_where(ch, wo, u, None, chosen)
-            wi = np.where(chosen[..., None], s.wi, wi)
-            flags = np.where(chosen, s.flags, flags)
+            wi = pick(chosen[..., None], s.wi, wi)
+            flags = pick(chosen, s.flags, flags)
         f, pdf = self._eval_pdf_t(wo, wi, throughput)
         with np.errstate(divide="ignore", invalid="ignore"):
             weight = f * np.abs(wi[..., 2:3]) / pdf[..., None]
         delta = (flags & int(Flags.DELTA)) != 0
         if np.any(delta):
             d_weight, d_pdf = self._delta_mixture(wo, k, flags, p)
-            weight = np.where(delta[..., None], d_weight, weight)
-            pdf = np.where(delta, d_pdf, pdf)
+            weight = pick(delta[..., None], d_weight, weight)
+            pdf = pick(delta, d_pdf, pdf)
         return finished_sample(wi, weight, pdf, flags)
 
     def _delta_mixture(self, wo, k, flags, p):
@@ -222,16 +223,16 @@ class Dispersive(Lobe):
         F_c = ``fresnel.dielectric`` at cos theta_o (1 under total internal reflection).
         """
         below = (wo[..., 2] < 0.0)[..., None]
-        eta = np.where(below, 1.0 / self.eta, self.eta)  # far side / wo's side, per channel
+        eta = pick(below, 1.0 / self.eta, self.eta)  # far side / wo's side, per channel
         passes = np.stack(np.broadcast_arrays(*(ch.passes for ch in self.channels)), -1)
         F = fresnel.dielectric(np.abs(wo[..., 2])[..., None], eta)
-        F = np.where(passes, 0.0, F)
+        F = pick(passes, 0.0, F)
         T = 1.0 - F
         if np.any(passes):
             zo = np.abs(wo[..., 2])
-            T = np.where(passes, np.stack([ch._pass_energy(wo[..., 0], wo[..., 1], zo)
+            T = pick(passes, np.stack([ch._pass_energy(wo[..., 0], wo[..., 1], zo)
                                            for ch in self.channels], -1), T)
-        P = np.where(passes, 1.0, 1.0 - F)
+        P = pick(passes, 1.0, 1.0 - F)
         reflected = ((flags & int(Flags.REFLECTION)) != 0)[..., None]
         shape = np.broadcast_shapes(F.shape, k.shape + (1,))
 
@@ -239,7 +240,7 @@ class Dispersive(Lobe):
             return np.take_along_axis(np.broadcast_to(x, shape), k[..., None], -1)
 
         shared = (eta == of_k(eta)) | (passes & of_k(passes))
-        value = np.where(reflected, F, np.where(shared, T, 0.0) / (eta * eta))
-        mass = (p * np.where(reflected, F, np.where(shared, P, 0.0))).sum(axis=-1)
+        value = pick(reflected, F, pick(shared, T, 0.0) / (eta * eta))
+        mass = (p * pick(reflected, F, pick(shared, P, 0.0))).sum(axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):
             return value / mass[..., None], mass

@@ -16,6 +16,7 @@ import functools
 import numpy as np
 
 from adobe_bsdf import config, tables
+from adobe_bsdf._channels import pick
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.tables.anisotropic_energy import (
@@ -77,7 +78,7 @@ def table_alpha(distribution: GGX, table: str | None = None) -> np.ndarray:
     if not isinstance(d, GGX):
         raise ValueError(f"distribution = {d!r}: the energy tables hold GGX only (allowed: "
                          "a GGX distribution; use albedo method 'quadrature' or 'mc')")
-    alpha = np.where(d.smooth, 0.0, np.sqrt(d.alpha_x * d.alpha_y))
+    alpha = pick(d.smooth, 0.0, np.sqrt(d.alpha_x * d.alpha_y))
     bad = ~(alpha <= tables.ALPHA_MAX)
     if np.any(bad):
         def first(a):
@@ -163,10 +164,10 @@ def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, 
     else:
         table, coords = tables.get(name), (mu, *params.values())
 
-    def pick(data):
+    def of_channel(data):
         return data.sum(-1) if channel is None else data[..., channel]
 
-    return pick(table(*coords)), (pick(table.error(*coords)) if with_error else None)
+    return of_channel(table(*coords)), (of_channel(table.error(*coords)) if with_error else None)
 
 
 @functools.lru_cache(maxsize=512)
@@ -182,7 +183,7 @@ def _fixed(name: str, channel: int | None, **fixed) -> Table:
 
 
 def _where(mask, value, fill):
-    return None if value is None else np.where(mask, value, fill)
+    return None if value is None else pick(mask, value, fill)
 
 
 def is_anisotropic(distribution: GGX) -> np.ndarray:
@@ -221,10 +222,10 @@ def conductor_energy(distribution: GGX, wo, with_error: bool = False):
         E_i, error_i = lookup("ggx_conductor", mu, with_error,
                               alpha=table_alpha(d, "ggx_conductor"))
         if np.any(aniso):
-            E, error = np.where(aniso, E, E_i), _where(aniso, error, error_i)
+            E, error = pick(aniso, E, E_i), _where(aniso, error, error_i)
         else:
             E, error = E_i, error_i
-    return np.where(up, E, 0.0), _where(up, error, 0.0)
+    return pick(up, E, 0.0), _where(up, error, 0.0)
 
 
 def conductor_average(distribution: GGX):
@@ -234,7 +235,7 @@ def conductor_average(distribution: GGX):
     E_avg = tables.get("ggx_conductor_avg")(table_alpha(d, "ggx_conductor"))[..., 0]
     aniso = np.broadcast_to(is_anisotropic(d), np.shape(E_avg))
     if np.any(aniso):
-        E_avg = np.where(aniso, tables.get("ggx_conductor_anisotropic_avg")(
+        E_avg = pick(aniso, tables.get("ggx_conductor_anisotropic_avg")(
             *_alpha_ratio(d))[..., 0], E_avg)
     return E_avg
 
@@ -249,8 +250,8 @@ def anisotropic_reflection(distribution: GGX, reference: GGX, eta, wo,
     E, error = _fresnel_moments(distribution, eta, wo, with_error)
     E_ref, error_ref = _fresnel_moments(reference, eta, wo, with_error)
     up = wo[..., 2] > 0.0
-    return (np.where(up, E - E_ref, 0.0),
-            np.where(up, error + error_ref, 0.0) if with_error else None)
+    return (pick(up, E - E_ref, 0.0),
+            pick(up, error + error_ref, 0.0) if with_error else None)
 
 
 def _fresnel_moments(distribution: GGX, eta, wo, with_error: bool):
@@ -328,13 +329,13 @@ def anisotropic_coordinates(distribution: GGX, w, blend: bool = False):
                          f"{alpha_y[bad].flat[0].item()!r}: max(alpha_x, alpha_y) is outside "
                          f"[0, {tables.ALPHA_MAX:g}], the range of table "
                          f"ggx_conductor_anisotropic: {_INSTEAD}")
-    safe = np.where(alpha > 0.0, alpha, 1.0)
-    ratio = np.where(alpha > 0.0, np.minimum(alpha_x, alpha_y) / safe, 1.0)
+    safe = pick(alpha > 0.0, alpha, 1.0)
+    ratio = pick(alpha > 0.0, np.minimum(alpha_x, alpha_y) / safe, 1.0)
     x2, y2 = w[..., 0] ** 2, w[..., 1] ** 2
-    along = np.where(alpha_x >= alpha_y, x2, y2)  # along the axis of alpha
+    along = pick(alpha_x >= alpha_y, x2, y2)  # along the axis of alpha
     horizontal = x2 + y2
-    cos_phi = np.where(horizontal > 0.0, np.sqrt(np.minimum(
-        along / np.where(horizontal > 0.0, horizontal, 1.0), 1.0)), 1.0)
+    cos_phi = pick(horizontal > 0.0, np.sqrt(np.minimum(
+        along / pick(horizontal > 0.0, horizontal, 1.0), 1.0)), 1.0)
     mu = np.minimum(np.abs(w[..., 2]), 1.0)
     a_phi = projected_alpha(cos_phi, alpha, ratio)
     s = blended(mu, a_phi) if blend else similarity(mu, a_phi)
@@ -381,7 +382,7 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False):
         if with_error:
             error[mask] = piece.error(on_light[mask], mu[mask], cos_phi[mask])
     grazing = (np.broadcast_to(wo[..., 2], shape) == 0.0)[..., None]
-    return np.where(grazing, 0.0, E), None if error is None else np.where(grazing, 0.0, error)
+    return pick(grazing, 0.0, E), None if error is None else pick(grazing, 0.0, error)
 
 
 def slice_average(eta, distribution: GGX):
@@ -397,7 +398,7 @@ def slice_average(eta, distribution: GGX):
 def sides(eta):
     """(eta >= 1, index ratio dense / light)."""
     light_above = eta >= 1.0
-    return light_above, np.where(light_above, eta, 1.0 / eta)
+    return light_above, pick(light_above, eta, 1.0 / eta)
 
 
 _COLOURS = ("red", "green", "blue")
@@ -455,7 +456,7 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
                 error[index] = err
         else:
             E, err = lookup(name, mu, with_error, alpha=alpha, eta=ratio)
-            total = np.where(here, E, total)
+            total = pick(here, E, total)
             error = _where(here, err, error)
     aniso = np.broadcast_to(is_anisotropic(distribution), shape) if exact else np.False_
     # the pass-through keeps the tables' eta = 1 limit, the lobe's own energy there; the
@@ -463,19 +464,19 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
     near = np.broadcast_to(near_matched(ratio, mu) & ~distribution.smooth
                            & ~passes_through(eta, distribution), shape) & ~aniso
     if np.any(near):
-        E_R, E_T, err_R, err_T = _integrated(near, mu, alpha, np.where(on_light, ratio,
+        E_R, E_T, err_R, err_T = _integrated(near, mu, alpha, pick(on_light, ratio,
                                                                          1.0 / ratio), with_error)
         total[near] = E_R + E_T
         if with_error:
             error[near] = err_R + err_T
     if exact:
         E_s, error_s = slice_energy(eta, distribution, wo, with_error)
-        total = np.where(aniso, E_s.sum(-1), total)
-        error = None if error is None else np.where(aniso, error_s.sum(-1), error)
+        total = pick(aniso, E_s.sum(-1), total)
+        error = None if error is None else pick(aniso, error_s.sum(-1), error)
     # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
     grazing = wo[..., 2] == 0.0
-    total = np.where(matched, 1.0, np.where(grazing, 0.0, total))
-    return total, None if error is None else np.where(matched | grazing, 0.0, error)
+    total = pick(matched, 1.0, pick(grazing, 0.0, total))
+    return total, None if error is None else pick(matched | grazing, 0.0, error)
 
 
 def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,
@@ -489,8 +490,8 @@ def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,
     E = np.maximum(E, 0.0)  # interpolation overshoot below 0 near eta = 1
     matched = ratio == 1.0  # no interface: F = 0, nothing is reflected, exactly
     if np.any(matched):
-        E = np.where(matched, 0.0, E)
-        error = None if error is None else np.where(matched, 0.0, error)
+        E = pick(matched, 0.0, E)
+        error = None if error is None else pick(matched, 0.0, error)
     near = near_matched(ratio, mu) & where & ~matched
     if np.any(near):
         shape = np.broadcast_shapes(E.shape, near.shape)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.composition import Sum
 from adobe_bsdf.fresnel import ExactConductor, Fresnel
 from adobe_bsdf.haze import HazeMapping, haze_mapping
@@ -26,18 +27,18 @@ class _MappedFresnel(Fresnel):
 
     def __init__(self, eta, kappa):
         self.mirror = np.isinf(eta)
-        self._exact = ExactConductor(np.where(self.mirror, 1.0, eta),
-                                     np.where(self.mirror, 0.0, kappa))
+        self._exact = ExactConductor(pick(self.mirror, 1.0, eta),
+                                     pick(self.mirror, 0.0, kappa))
         self.param_shape = self._exact.param_shape
 
     def __repr__(self) -> str:
         return f"_MappedFresnel({self._exact!r}, mirror={self.mirror})"
 
     def __call__(self, cos_theta):
-        return np.where(self.mirror, 1.0, self._exact(cos_theta))
+        return pick(self.mirror, 1.0, self._exact(cos_theta))
 
     def from_cos2(self, c2):
-        return np.where(self.mirror, 1.0, self._exact.from_cos2(c2))
+        return pick(self.mirror, 1.0, self._exact.from_cos2(c2))
 
 
 def _narrow_and_wide(mapping: HazeMapping, model: str, compound_masking: bool, make):

@@ -32,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, tables
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.composition import Sum
 from adobe_bsdf.lobes.dielectric import Dielectric, _eta, interface_energy_scale
@@ -59,7 +60,7 @@ __all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScat
 def _inverse_loss(E_avg):
     """1 / (pi (1 - E_avg)), 0 where nothing is lost (smooth interface)."""
     loss = 1.0 - E_avg
-    return np.where(loss > 1e-12, 1.0 / (np.pi * np.where(loss > 1e-12, loss, 1.0)), 0.0)
+    return pick(loss > 1e-12, 1.0 / (np.pi * pick(loss > 1e-12, loss, 1.0)), 0.0)
 
 
 class ConductorMultipleScattering(Separable):
@@ -110,12 +111,12 @@ class ConductorMultipleScattering(Separable):
     def _albedo_table(self, wo, with_error=True):
         """base_color^2 (1 - E(wo)), exact for the tabulated E."""
         E, error = conductor_energy(self.distribution, wo, with_error)
-        loss = np.where(wo[..., 2] > 0.0, np.maximum(1.0 - E, 0.0), 0.0)
+        loss = pick(wo[..., 2] > 0.0, np.maximum(1.0 - E, 0.0), 0.0)
         scale = self.base_color ** 2
         return scale * loss[..., None], None if error is None else scale * error[..., None]
 
     def _sampling_weight(self, wo):
-        return luminance(self.base_color ** 2) * np.where(wo[..., 2] > 0.0, self._X_at(wo), 0.0)
+        return luminance(self.base_color ** 2) * pick(wo[..., 2] > 0.0, self._X_at(wo), 0.0)
 
 
 class ConductorMS(Sum):
@@ -179,19 +180,19 @@ class DielectricMultipleScattering(Separable):
         if self.exact:
             aniso = is_anisotropic(self.distribution)[..., None]
             slice_L, slice_D = slice_average(self.eta, self.distribution)
-            avg_L, avg_D = np.where(aniso, slice_L, avg_L), np.where(aniso, slice_D, avg_D)
+            avg_L, avg_D = pick(aniso, slice_L, avg_L), pick(aniso, slice_D, avg_D)
         E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
         # the split is a free choice in [0, 1] (clipped against interpolation overshoot of a
         # near-zero E_R near eta = 1; conservation and reciprocity hold for any value)
-        t_L = np.clip(np.where(E_avg_L > 0.0, avg_L[..., 1] / np.where(E_avg_L > 0, E_avg_L, 1.0),
+        t_L = np.clip(pick(E_avg_L > 0.0, avg_L[..., 1] / pick(E_avg_L > 0, E_avg_L, 1.0),
                                0.0), 0.0, 1.0)
         loss_L, loss_D = 1.0 - E_avg_L, 1.0 - E_avg_D
         eta2 = ratio * ratio
         # 1 - r_D from the reciprocity condition; if above 1, cap it and lower 1 - r_L instead
-        t_D = np.maximum(t_L * loss_L / np.where(eta2 * loss_D > 0.0, eta2 * loss_D, 1.0), 0.0)
+        t_D = np.maximum(t_L * loss_L / pick(eta2 * loss_D > 0.0, eta2 * loss_D, 1.0), 0.0)
         capped = t_D > 1.0
-        t_L = np.where(capped, eta2 * loss_D / np.where(loss_L > 0.0, loss_L, 1.0), t_L)
-        t_D = np.where(capped, 1.0, t_D)
+        t_L = pick(capped, eta2 * loss_D / pick(loss_L > 0.0, loss_L, 1.0), t_L)
+        t_D = pick(capped, 1.0, t_D)
         self.transmitted_share = (t_L, t_D)
         active = ~self.distribution.smooth & (self.eta != 1.0)
         inv_L, inv_D = _inverse_loss(E_avg_L), _inverse_loss(E_avg_D)
@@ -200,10 +201,10 @@ class DielectricMultipleScattering(Separable):
         # second form keeps the pair reciprocal (D -> L stays eta^2 t_D / (pi loss_L))
         self._c = {  # coefficient of each (side of wo, side of wi) pair
             ("L", "L"): (1.0 - t_L) * inv_L, ("D", "D"): (1.0 - t_D) * inv_D,
-            ("L", "D"): np.where(inv_D > 0.0, t_L * inv_D / eta2, t_D * inv_L),
+            ("L", "D"): pick(inv_D > 0.0, t_L * inv_D / eta2, t_D * inv_L),
             ("D", "L"): eta2 * t_D * inv_L}
-        self._c = {k: np.where(active, v, 0.0) for k, v in self._c.items()}
-        self._t = (np.where(active, t_L, 0.0), np.where(active, t_D, 0.0))
+        self._c = {k: pick(active, v, 0.0) for k, v in self._c.items()}
+        self._t = (pick(active, t_L, 0.0), pick(active, t_D, 0.0))
 
     def __repr__(self) -> str:
         d = self.distribution
@@ -226,13 +227,13 @@ class DielectricMultipleScattering(Separable):
         c = 0.0
         for (so, si), coefficient in self._c.items():
             here = (o_light == (so == "L")) & (i_light == (si == "L"))
-            c = c + np.where(here, coefficient, 0.0)
+            c = c + pick(here, coefficient, 0.0)
         c = np.asarray(c)[..., None]
         return np.broadcast_to(c, c.shape[:-1] + (3,))  # grey: f is (..., 3) as for any lobe
 
     def _reflect_probability(self, wo):
         t_L, t_D = self._t
-        return 1.0 - np.where(self._on_light(wo), t_L, t_D)
+        return 1.0 - pick(self._on_light(wo), t_L, t_D)
 
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
@@ -241,7 +242,7 @@ class DielectricMultipleScattering(Separable):
         """1 - E_s(mu_o): what this term adds, exactly, for the tabulated E."""
         E, error = dielectric_energy(self.eta, self.distribution, wo, with_error, self.exact)
         active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
-        return grey(np.where(active, np.maximum(1.0 - E, 0.0), 0.0)), grey(error)
+        return grey(pick(active, np.maximum(1.0 - E, 0.0), 0.0)), grey(error)
 
     def _sampling_weight(self, wo):
         return self._X_at(wo)

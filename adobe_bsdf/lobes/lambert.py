@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.sampling import cosine_hemisphere
 
@@ -38,11 +39,11 @@ class Lambert(Lobe):
 
     def _eval(self, wo, wi):
         up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        return np.where(up[..., None], self.reflectance / np.pi, 0.0)
+        return pick(up[..., None], self.reflectance / np.pi, 0.0)
 
     def _pdf(self, wo, wi):
         up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        return np.where(up, wi[..., 2] / np.pi, 0.0)
+        return pick(up, wi[..., 2] / np.pi, 0.0)
 
     def _sample(self, wo, u):
         wi = cosine_hemisphere(u[..., 1:3])
@@ -51,4 +52,4 @@ class Lambert(Lobe):
         ok = np.broadcast_to(ok, shape)
         weight = np.broadcast_to(self.reflectance, shape + (3,))
         return finished_sample(wi, weight, wi[..., 2] / np.pi,
-                               np.where(ok, int(self.flags), int(Flags.NONE)))
+                               pick(ok, int(self.flags), int(Flags.NONE)))

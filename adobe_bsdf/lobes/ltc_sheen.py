@@ -32,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 from adobe_bsdf.sampling import cosine_hemisphere
@@ -53,11 +54,11 @@ def _albedo_fit(x, y):
     m_hat = (-0.193854 + y * (-1.14885 + y * (1.7932 - 0.95943 * y * y))) / (0.046391 + y)
     o_hat = (0.000654023 + (-0.0207818 + 0.119681 * y) * y) / (1.26264 + y * (-1.92021 + y))
     live = y > 0.0
-    y_live = np.where(live, y, 1.0)
+    y_live = pick(live, y, 1.0)
     with np.errstate(over="ignore", divide="ignore"):
         t = (x / y_live - m_hat) / s_hat
         gauss = np.exp(-0.5 * (t * t)) / (s_hat * _SQRT_2PI) / y_live
-    return np.where(live, np.clip(gauss + y * o_hat, 0.0, 1.0), 0.0)
+    return pick(live, np.clip(gauss + y * o_hat, 0.0, 1.0), 0.0)
 
 
 def _ltc(x, y):
@@ -102,8 +103,8 @@ def _frame(wo):
     gives the same lobe)."""
     r = np.hypot(wo[..., 0], wo[..., 1])
     live = r > 0.0
-    r = np.where(live, r, 1.0)
-    return np.where(live, wo[..., 0] / r, 1.0), np.where(live, wo[..., 1] / r, 0.0)
+    r = pick(live, r, 1.0)
+    return pick(live, wo[..., 0] / r, 1.0), pick(live, wo[..., 1] / r, 0.0)
 
 
 def _ratio(a, b, lx, ly, lz):
@@ -191,11 +192,11 @@ class LTCSheen(SupportLobe):
         (alpha = 0, or aInv underflows: the lobe is 0 there)."""
         x = np.clip(wo[..., 2], 0.0, 1.0)
         a, b = _ltc(x, self.roughness)
-        return np.where(a > 0.0, _albedo_fit(x, self.roughness), 0.0), a, b
+        return pick(a > 0.0, _albedo_fit(x, self.roughness), 0.0), a, b
 
     def _albedo(self, wo):
         """The white lobe's albedo E ``(...)``: 0 where wo is not above the surface."""
-        return np.where(wo[..., 2] > 0.0, self._fit(wo)[0], 0.0)
+        return pick(wo[..., 2] > 0.0, self._fit(wo)[0], 0.0)
 
     # -- eval and pdf -----------------------------------------------------------------------
     def _support(self, wo, wi):
@@ -214,13 +215,13 @@ class LTCSheen(SupportLobe):
     def _f(self, E, t, up):
         """color E t^2 / pi, 0 outside ``up`` (E t first: E = 0 gives 0 at any t)."""
         f = saturated(E * t * t / np.pi)
-        return self.color * (f if up is None else np.where(up, f, 0.0))[..., None]
+        return self.color * (f if up is None else pick(up, f, 0.0))[..., None]
 
     @staticmethod
     def _D(wz, t, up):
         """D = w_z t^2 / pi, 0 outside ``up``."""
         D = saturated(wz * t * t / np.pi)
-        return D if up is None else np.where(up, D, 0.0)
+        return D if up is None else pick(up, D, 0.0)
 
     def _eval_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -243,7 +244,7 @@ class LTCSheen(SupportLobe):
         px, py, pz = v[..., 0] - b * v[..., 2], v[..., 1], a * v[..., 2]
         norm = np.hypot(np.hypot(px, py), pz)
         ok = (wo[..., 2] > 0.0) & (pz > 0.0)
-        norm = np.where(ok, norm, 1.0)
+        norm = pick(ok, norm, 1.0)
         lx, ly, lz = px / norm, py / norm, pz / norm
         ok = ok & (lz > 0.0)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -251,7 +252,7 @@ class LTCSheen(SupportLobe):
         c, s = _frame(wo)
         wi = np.stack(np.broadcast_arrays(c * lx - s * ly, s * lx + c * ly, lz), axis=-1)
         weight = self.color * E[..., None]
-        return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
+        return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------
     def _albedo_table(self, wo, with_error=True):

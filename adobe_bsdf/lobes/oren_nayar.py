@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf._channels import masked, selected, tinted, weighted
+from adobe_bsdf._channels import masked, pick, selected, tinted, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 from adobe_bsdf.sampling import azimuth, concentric_disk, cosine_hemisphere
@@ -103,8 +103,8 @@ def _uniform_share(mu, sigma):
 def _frame(wo):
     """(cos phi_o, sin phi_o): the LTC frame's x axis is wo's azimuth ((1, 0) at the normal)."""
     r = np.hypot(wo[..., 0], wo[..., 1])
-    safe = np.where(r > 0.0, r, 1.0)
-    return np.where(r > 0.0, wo[..., 0] / safe, 1.0), np.where(r > 0.0, wo[..., 1] / safe, 0.0)
+    safe = pick(r > 0.0, r, 1.0)
+    return pick(r > 0.0, wo[..., 0] / safe, 1.0), pick(r > 0.0, wo[..., 1] / safe, 0.0)
 
 
 def _clip_scale(d):
@@ -198,9 +198,9 @@ class EnergyPreservingOrenNayar(SupportLobe):
             return f if up is None else masked(up, f)
         mu_o, mu_i = np.clip(wo[..., 2], 0.0, 1.0), np.clip(wi[..., 2], 0.0, 1.0)
         s = wo[..., 0] * wi[..., 0] + wo[..., 1] * wi[..., 1]
-        t = np.where(s > 0.0, np.maximum(mu_o, mu_i), 1.0)
+        t = pick(s > 0.0, np.maximum(mu_o, mu_i), 1.0)
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-            s_over_t = saturated(np.where(t > 0.0, s / t, 0.0))
+            s_over_t = saturated(pick(t > 0.0, s / t, 0.0))
         fon = _A(sigma) * (1.0 + sigma * s_over_t)
         ms = sigma * _A(sigma) * (_deficit(mu_o) * _deficit(mu_i)) / (C1 - C2)
         f = tinted(fon, self.reflectance)
@@ -214,7 +214,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
         if self._lambert:  # M = I, s = 1, P_u = 0: pdf = pdf_c = wi_z / pi, the same bits
             shape = np.broadcast_shapes(wo.shape[:-1], wi.shape[:-1], sigma.shape)
             pdf = np.broadcast_to(wi[..., 2], shape) / np.pi
-            return pdf if up is None else np.where(up, pdf, 0.0)
+            return pdf if up is None else pick(up, pdf, 0.0)
         mu_o = np.clip(wo[..., 2], 0.0, 1.0)
         a, b, c, d = _ltc(mu_o, sigma)
         cx, cy = _frame(wo)
@@ -230,7 +230,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
         pdf_c = (det / length2) ** 2 * np.maximum(det * z + Dz, 0.0) / (np.pi * _clip_scale(d))
         share = _uniform_share(mu_o, sigma)
         pdf = share / (2.0 * np.pi) + (1.0 - share) * pdf_c
-        return pdf if up is None else np.where(up, pdf, 0.0)
+        return pdf if up is None else pick(up, pdf, 0.0)
 
     def _eval_kernel(self, wo, wi, up):
         return self._f(wo, wi, up)
@@ -258,7 +258,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
         if weigh:
             with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: failed, zeroed below
                 weight = weighted(self._f(wo, wi, ok), wi[..., 2] / pdf)
-        return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
+        return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)))
 
     def _directions(self, wo, u):
         """wi of the CLTC / uniform mixture (sigma > 0 somewhere)."""
@@ -279,7 +279,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
         x_c = s * x - (1.0 - s) * r
         z = np.sqrt(np.maximum(0.0, (1.0 - p[..., 0] ** 2 - p[..., 1] ** 2)
                                + (1.0 - s) * (x + r) * (x + x_c)))
-        x = np.where(d > 0.0, -x_c, x_c)
+        x = pick(d > 0.0, -x_c, x_c)
         m = np.stack([a * x + b * z, c * y, d * x + z], axis=-1)
         m /= np.linalg.norm(m, axis=-1, keepdims=True)
         cltc = np.stack([cx * m[..., 0] - cy * m[..., 1], cy * m[..., 0] + cx * m[..., 1],
@@ -371,6 +371,6 @@ def _split_quadrature(lobe, wo, n):
                        np.broadcast_to(cos_t, shape)], -1)
         f = lobe._eval(np.broadcast_to(w[:, None, None, :], wi.shape), wi)
         weight = (w_theta * np.sin(theta) * np.cos(theta))[:, :, None] * w_phi[None, None, :]
-        out[start:start + len(w)] = np.where(up[:, None],
+        out[start:start + len(w)] = pick(up[:, None],
                                              np.einsum("mtpc,mtp->mc", f, weight), 0.0)
     return out

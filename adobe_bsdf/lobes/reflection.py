@@ -8,7 +8,7 @@ import threading
 import numpy as np
 
 from adobe_bsdf import quadrature
-from adobe_bsdf._channels import weighted
+from adobe_bsdf._channels import pick, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.fresnel import ExactDielectric, Fresnel, FresnelFunction
 from adobe_bsdf.lobes.energy_lookup import (
@@ -118,7 +118,7 @@ class MicrofacetReflection(SupportLobe):
         iz = wi[..., 2]
         DV = saturated(D * d.V_of(wo[..., 2], s_o, iz, d.projected(wi[..., 0], wi[..., 1], iz)))
         if up is not None:
-            DV = np.where(up, DV, 0.0)
+            DV = pick(up, DV, 0.0)
         F = self._F2(0.25 * length2)
         if F is None:
             return np.repeat(DV[..., None], 3, axis=-1)
@@ -131,7 +131,7 @@ class MicrofacetReflection(SupportLobe):
         """pdf = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) [Heitz2018, eq. 3],
         0 outside ``up``."""
         pdf = D / (2.0 * (wo[..., 2] + s_o))
-        return pdf if up is None else np.where(up, pdf, 0.0)
+        return pdf if up is None else pick(up, pdf, 0.0)
 
     def _support(self, wo, wi):
         """Both directions above a rough surface."""
@@ -179,16 +179,16 @@ class MicrofacetReflection(SupportLobe):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, oz)
             D = d.D_of_sum(mx, my, mz, 1.0)
-            pdf = np.where(smooth, 1.0, self._p(wo, ok, D, s_o))
+            pdf = pick(smooth, 1.0, self._p(wo, ok, D, s_o))
             if weigh:
                 s_i = d.projected(wi[..., 0], wi[..., 1], iz)
-                g = np.where(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
+                g = pick(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
         if weigh:
             F = self._F2(cos_om * cos_om)
             weight = np.repeat(g[..., None], 3, axis=-1) if F is None else F * g[..., None]
-        flags = np.where(smooth, int(Flags.REFLECTION | Flags.DELTA),
+        flags = pick(smooth, int(Flags.REFLECTION | Flags.DELTA),
                          int(Flags.REFLECTION | Flags.GLOSSY))
-        return finished_sample(wi, weight, pdf, np.where(ok, flags, int(Flags.NONE)))
+        return finished_sample(wi, weight, pdf, pick(ok, flags, int(Flags.NONE)), fresh=True)
 
     def _albedo_table(self, wo, with_error=True):
         """E(wo) of ``tables`` "ggx_conductor" (isotropic) or "ggx_conductor_anisotropic" for
@@ -220,7 +220,7 @@ class MicrofacetReflection(SupportLobe):
     def _delta_albedo(self, wo):
         """F(cos theta_o) where the lobe is a perfect mirror and ``wo`` is above, else 0."""
         delta = self.distribution.smooth & (wo[..., 2] > 0.0)
-        return np.where(delta[..., None], self._F(np.maximum(wo[..., 2], 0.0)), 0.0)
+        return pick(delta[..., None], self._F(np.maximum(wo[..., 2], 0.0)), 0.0)
 
 
 def _fresnel_model(fresnel) -> Fresnel | None:
@@ -328,7 +328,7 @@ class DielectricReflection(MicrofacetReflection):
         if self._param_shape() != ():
             return quadrature.sampled_albedo(self, wo)
         v, cos_phi, _, _ = anisotropic_coordinates(d, wo, blend=True)
-        return grey(np.where(wo[..., 2] > 0.0, self._top_table()(v, cos_phi)[..., 0], 0.0))
+        return grey(pick(wo[..., 2] > 0.0, self._top_table()(v, cos_phi)[..., 0], 0.0))
 
     def _top_table(self) -> Table:
         """The (v, |cos phi|) table of ``quadrature.sampled_albedo`` of this anisotropic
@@ -355,22 +355,22 @@ class DielectricReflection(MicrofacetReflection):
         if len(parts) == 1:
             E, error = parts[0]
         else:
-            E = np.where(light, parts[0][0], parts[1][0])
-            error = np.where(light, parts[0][1], parts[1][1]) if with_error else None
+            E = pick(light, parts[0][0], parts[1][0])
+            error = pick(light, parts[0][1], parts[1][1]) if with_error else None
         up = wo[..., 2] > 0.0
-        E = grey(np.where(up, E, 0.0))
-        error = grey(None if error is None else np.where(up, error, 0.0))
+        E = grey(pick(up, E, 0.0))
+        error = grey(None if error is None else pick(up, error, 0.0))
         if self.exact:
             E_s, error_s = slice_energy(self.eta, self.distribution, wo, with_error)
             aniso = np.asarray(aniso)[..., None]
-            E = np.where(aniso, grey(np.where(up, E_s[..., 0], 0.0)), E)
+            E = pick(aniso, grey(pick(up, E_s[..., 0], 0.0)), E)
             if with_error:
-                error = np.where(aniso, grey(np.where(up, error_s[..., 0], 0.0)), error)
+                error = pick(aniso, grey(pick(up, error_s[..., 0], 0.0)), error)
         smooth = self.distribution.smooth
         if np.any(smooth):  # the exact Fresnel, not its interpolation in eta
             smooth = smooth[..., None]
-            E = np.where(smooth, self._delta_albedo(wo), E)
-            error = None if error is None else np.where(smooth, 0.0, error)
+            E = pick(smooth, self._delta_albedo(wo), E)
+            error = None if error is None else pick(smooth, 0.0, error)
         return E, error
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _memo
-from adobe_bsdf._channels import tinted, weighted
+from adobe_bsdf._channels import pick, tinted, weighted
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.lobes.dielectric import _mirror_z
 from adobe_bsdf.sampling import cosine_hemisphere
@@ -47,13 +47,13 @@ class Separable(Lobe):
         return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
 
     def _eval(self, wo, wi):
-        g = np.where(self._support(wo, wi), self._X_at(wo) * self._X_at(wi), 0.0)
+        g = pick(self._support(wo, wi), self._X_at(wo) * self._X_at(wi), 0.0)
         return tinted(g, self._coefficient(wo, wi))  # c >= 0 finite: c 0 = 0 off the support
 
     def _pdf(self, wo, wi):
         p_r = self._reflect_probability(wo)
-        p = np.where(wo[..., 2] * wi[..., 2] > 0.0, p_r, 1.0 - p_r)
-        return np.where(self._support(wo, wi), p * np.abs(wi[..., 2]) / np.pi, 0.0)
+        p = pick(wo[..., 2] * wi[..., 2] > 0.0, p_r, 1.0 - p_r)
+        return pick(self._support(wo, wi), p * np.abs(wi[..., 2]) / np.pi, 0.0)
 
     def _sample(self, wo, u):
         return self._drawn(wo, u, weigh=True)
@@ -65,13 +65,13 @@ class Separable(Lobe):
         """The sample; without ``weigh`` its weight is 0 (``_sample_directions``)."""
         local = cosine_hemisphere(u[..., 1:3])
         stay = u[..., 0] < self._reflect_probability(wo)
-        side = np.where(wo[..., 2] < 0.0, -1.0, 1.0) * np.where(stay, 1.0, -1.0)
+        side = pick(wo[..., 2] < 0.0, -1.0, 1.0) * pick(stay, 1.0, -1.0)
         wi = _mirror_z(local, side)
         pdf = self._pdf(wo, wi)
         ok = pdf > 0.0
-        weight = (weighted(self._eval(wo, wi), np.abs(wi[..., 2]) / np.where(ok, pdf, 1.0))
+        weight = (weighted(self._eval(wo, wi), np.abs(wi[..., 2]) / pick(ok, pdf, 1.0))
                   if weigh else None)
-        flags = int(Flags.DIFFUSE) | np.where(wo[..., 2] * wi[..., 2] > 0.0,
+        flags = int(Flags.DIFFUSE) | pick(wo[..., 2] * wi[..., 2] > 0.0,
                                               int(Flags.REFLECTION), int(Flags.TRANSMISSION))
         if weigh:
             pdf = np.broadcast_to(pdf, weight.shape[:-1])

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.lobes.energy_lookup import lookup
 from adobe_bsdf.microfacet import DEN_MIN, rescaled, saturated
@@ -146,13 +147,13 @@ class Sheen(SupportLobe):
         """D G / (4 cos_i cos_o) (eq. 15 without c a), 0 outside ``up``."""
         e, K = self._shadowing(wo[..., 2], wi[..., 2], self._sigma(wo), self._sigma(wi))
         DG = saturated(D * e / np.maximum(4.0 * K, DEN_MIN))
-        return DG if up is None else np.where(up, DG, 0.0)
+        return DG if up is None else pick(up, DG, 0.0)
 
     def _p(self, wo, up, D):
         """pdf = D(h) / (4 sigma(wo)), 0 outside ``up``; saturated at the largest float (a
         subnormal roughness's D ~ 1 / (pi r) exceeds it)."""
         pdf = saturated(D / (4.0 * self._sigma(wo)))
-        return pdf if up is None else np.where(up, pdf, 0.0)
+        return pdf if up is None else pick(up, pdf, 0.0)
 
     def _eval_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -195,13 +196,13 @@ class Sheen(SupportLobe):
             two_cos = 2.0 * (ox * hx + oy * hy + oz * hz)
             wi = np.stack([two_cos * hx - ox, two_cos * hy - oy, two_cos * hz - oz], axis=-1)
             ok = (oz > 0.0) & (r > 0.0) & (norm > 0.0) & (wi[..., 2] > 0.0)
-            wi = np.where(ok[..., None], wi, np.array([0.0, 0.0, 1.0]))
+            wi = pick(ok[..., None], wi, np.array([0.0, 0.0, 1.0]))
             iz = wi[..., 2]
             pdf, weight = self._p(wo, ok, self._D(wo, wi)), None
             if weigh:
-                e, K = self._shadowing(np.where(ok, oz, 1.0), iz, s_o, self._sigma(wi))
-                weight = self._scale * np.where(ok, s_o * iz * e / K, 0.0)[..., None]
-        return finished_sample(wi, weight, pdf, np.where(ok, int(self.flags), int(Flags.NONE)))
+                e, K = self._shadowing(pick(ok, oz, 1.0), iz, s_o, self._sigma(wi))
+                weight = self._scale * pick(ok, s_o * iz * e / K, 0.0)[..., None]
+        return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------
     def _table_E(self, wo, with_error):
@@ -212,11 +213,11 @@ class Sheen(SupportLobe):
         mu = np.clip(wo[..., 2], 0.0, 1.0)
         small = r < R_SIMILAR
         with np.errstate(over="ignore"):  # r subnormal: mu R / r is inf, its minimum 1 exact
-            mu = np.where(small, np.minimum(
-                mu * R_SIMILAR / np.where(small & (r > 0.0), r, 1.0), 1.0), mu)
+            mu = pick(small, np.minimum(
+                mu * R_SIMILAR / pick(small & (r > 0.0), r, 1.0), 1.0), mu)
         E, error = lookup("sheen_albedo", mu, with_error, roughness=np.maximum(r, R_SIMILAR))
         live = (wo[..., 2] > 0.0) & (r > 0.0)
-        return np.where(live, E, 0.0), None if error is None else np.where(live, error, 0.0)
+        return pick(live, E, 0.0), None if error is None else pick(live, error, 0.0)
 
     def _albedo_table(self, wo, with_error=True):
         """c a E(cos theta_o, r) of the table (p = 1 only); the error is the carried node

@@ -51,6 +51,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, quadrature
+from adobe_bsdf._channels import pick
 from adobe_bsdf.composition import Facing, Flipped, Sum
 from adobe_bsdf.fresnel import Fresnel, _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
@@ -92,11 +93,11 @@ def sheet_coefficients(cos2, eta, transmittance) -> tuple[np.ndarray, np.ndarray
     inside = np.maximum((k + cos2) / eta2, 0.0)[..., None]  # cos^2 theta_t (0: no entry)
     with np.errstate(divide="ignore", invalid="ignore"):  # 0 / 0 where A = 1: masked
         log_a = np.log(transmittance)  # -inf where A = 0
-        exponent = np.where(transmittance == 1.0, 0.0, log_a / np.sqrt(inside))
+        exponent = pick(transmittance == 1.0, 0.0, log_a / np.sqrt(inside))
     tau, loss = np.exp(exponent), -np.expm1(exponent)  # tau and 1 - tau
     den = ((1.0 - F) + F * loss) * (1.0 + F * tau)  # 1 - F^2 tau^2
     with np.errstate(divide="ignore", invalid="ignore"):
-        T = np.where(den > 0.0, np.square(1.0 - F) * tau / den, 0.0)
+        T = pick(den > 0.0, np.square(1.0 - F) * tau / den, 0.0)
     T = np.minimum(T, 1.0)
     return np.minimum(F + F * tau * T, 1.0), T
 
@@ -199,7 +200,7 @@ class ThinDielectric(Facing):
         self.sheet_eta = eta
         self.transmittance = transmittance
         if np.any(eta == 1.0):  # no faces: smooth where eta is 1
-            distribution = GGX._new(*(np.where(eta == 1.0, 0.0, a) for a in
+            distribution = GGX._new(*(pick(eta == 1.0, 0.0, a) for a in
                                       (distribution.alpha_x, distribution.alpha_y)),
                                     distribution.masking)
         self.distribution = distribution
@@ -235,16 +236,16 @@ class ThinDielectric(Facing):
         def ratio(order):
             q = [quadrature.sampled_albedo(lobe, wo, order) for lobe in (white, *self.single)]
             with np.errstate(divide="ignore", invalid="ignore"):
-                return np.where(q[0] > 0.0, (q[1] + q[2]) / q[0], 0.0)
+                return pick(q[0] > 0.0, (q[1] + q[2]) / q[0], 0.0)
 
         E, error = conductor_energy(d, wo, with_error)
         ms, averages = self._multiple
         share = ratio(32)
         value = grey(E) * share + averages * ms._albedo_table(wo, False)[0]
         smooth = d.smooth[..., None]
-        value = np.where(smooth, delta, value)
+        value = pick(smooth, delta, value)
         if with_error:
-            error = np.where(smooth, 0.0, grey(E) * np.abs(share - ratio(16)) + grey(error))
+            error = pick(smooth, 0.0, grey(E) * np.abs(share - ratio(16)) + grey(error))
         return value, error
 
     def _top_albedo(self, wo):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, quadrature
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import BSDFSample, Flags
 from adobe_bsdf.composition import Wrapper
 from adobe_bsdf.fresnel import ExactDielectric
@@ -72,7 +73,7 @@ class TintedRefraction(Wrapper):
     def _tinted(self, f, wo, wi):
         zo, zi = wo[..., 2], wi[..., 2]
         across = ((zo < 0.0) != (zi < 0.0)) & (zo != 0.0) & (zi != 0.0)  # signs: no underflow
-        return np.where(across[..., None], f * self.tint, f)
+        return pick(across[..., None], f * self.tint, f)
 
     def _eval(self, wo, wi):
         return self._tinted(self.lobe._eval(wo, wi), wo, wi)
@@ -87,7 +88,7 @@ class TintedRefraction(Wrapper):
 
     def _from_inner(self, sample, wo):
         refracted = ((sample.flags & _T) != 0)[..., None]
-        return BSDFSample(sample.wi, np.where(refracted, sample.weight * self.tint,
+        return BSDFSample(sample.wi, pick(refracted, sample.weight * self.tint,
                                               sample.weight), sample.pdf, sample.flags)
 
     # -- the energy: E_R + t E_T ----------------------------------------------------------
@@ -105,11 +106,11 @@ class TintedRefraction(Wrapper):
         """``method`` of the interface's reflection on the side of ``wo`` (from below: the
         reflection of index 1 / eta at the mirrored direction), per channel."""
         below = wo[..., 2] < 0.0
-        up = wo * np.where(below, -1.0, 1.0)[..., None]
+        up = wo * pick(below, -1.0, 1.0)[..., None]
         parts = []
         for pair in self._reflections:
             above, under = (getattr(r, method)(up) for r in pair)
-            parts.append(np.where(below[..., None], under, above))
+            parts.append(pick(below[..., None], under, above))
         return self._per_channel(parts)
 
     def _delta_albedo(self, wo):
@@ -123,7 +124,7 @@ class TintedRefraction(Wrapper):
         plus the Kulla–Conty term's reflected share."""
         single = self._seen("_top_albedo", wo)
         grazing = wo[..., 2] == 0.0
-        multiple = [np.where(grazing, 0.0, ms._reflect_probability(wo))[..., None]
+        multiple = [pick(grazing, 0.0, ms._reflect_probability(wo))[..., None]
                     * ms._albedo_table(wo, False)[0] for ms in self._multiple]
         return single + self._per_channel(multiple)
 

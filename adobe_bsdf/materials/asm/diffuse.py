@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, tables
+from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, luminance
 from adobe_bsdf.composition import Sum
 from adobe_bsdf.fresnel import ExactDielectric
@@ -55,14 +56,14 @@ def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, exact=
     aniso = _anisotropic(microfacets)
     if exact:
         E, error_s = slice_energy(ior, microfacets, w, with_error)
-        L = np.where(aniso, E[..., 0], L)
-        error = np.where(aniso, error_s[..., 0], error) if with_error else None
+        L = pick(aniso, E[..., 0], L)
+        error = pick(aniso, error_s[..., 0], error) if with_error else None
     elif np.any(aniso):
         dL, error_d = anisotropic_reflection(microfacets, _reference(roughness), ior, w,
                                              with_error)
-        L = np.where(aniso, np.clip(L + dL, 0.0, 1.0), L)
-        error = np.where(aniso, error + error_d, error) if with_error else None
-    return np.where(up, L, 0.0), None if error is None else np.where(up, error, 0.0)
+        L = pick(aniso, np.clip(L + dL, 0.0, 1.0), L)
+        error = pick(aniso, error + error_d, error) if with_error else None
+    return pick(up, L, 0.0), None if error is None else pick(up, error, 0.0)
 
 
 def _reference(roughness):
@@ -76,9 +77,9 @@ def _lobe_average(roughness, ior, microfacets, exact=False):
     T = tables.get("asm_diffuse_T")(roughness, ior)[..., 0]
     aniso = _anisotropic(microfacets)
     if exact:
-        T = np.where(aniso, slice_average(ior, microfacets)[0][..., 0], T)
+        T = pick(aniso, slice_average(ior, microfacets)[0][..., 0], T)
     elif np.any(aniso):
-        T = np.where(aniso, T + anisotropic_reflection_average(
+        T = pick(aniso, T + anisotropic_reflection_average(
             microfacets, _reference(roughness), ior), T)
     return T
 
@@ -185,11 +186,11 @@ class ASMDiffuse(Separable):
         """rho (1 - L(wo)), exact for the tabulated L."""
         L, error = self._L(wo, with_error)
         up = (wo[..., 2] > 0.0)[..., None]
-        return (np.where(up, self.reflectance * np.maximum(1.0 - L, 0.0)[..., None], 0.0),
+        return (pick(up, self.reflectance * np.maximum(1.0 - L, 0.0)[..., None], 0.0),
                 None if error is None else self.reflectance * error[..., None])
 
     def _sampling_weight(self, wo):
-        return luminance(self.reflectance) * np.where(wo[..., 2] > 0.0, self._X_at(wo), 0.0)
+        return luminance(self.reflectance) * pick(wo[..., 2] > 0.0, self._X_at(wo), 0.0)
 
 
 def asm_dielectric_base(albedo, roughness, ior) -> Sum:
