@@ -895,11 +895,22 @@ def coat_absorption(color, eta, w) -> np.ndarray:
     incidence gives ``color`` (the two-way transmittance T, in [0, 1], already validated): the
     pair t(wo) t(wi) = T^((1/mu_o^t + 1/mu_i^t) / 2) is T at normal incidence, darker at
     grazing angles, symmetric in wo and wi [Kutz2021, §7; Andersson2023, §Layering]. Where T
-    is 1 (or 0), t is exactly 1 (or 0)."""
+    is 1 (or 0), t is exactly 1 (or 0). A constant colour is raised channel by channel as
+    exp(exponent ln T), four times faster than the power and within (1 + |ln t|) eps of it
+    (the rounding of the optical depth); a textured one by the power itself."""
     mu = np.abs(np.asarray(w)[..., 2])
     mu_t = np.sqrt(np.maximum(1.0 - (1.0 - mu * mu) / (eta * eta), 0.0))
     with np.errstate(divide="ignore"):
         exponent = pick(mu_t > 0.0, 0.5 / mu_t, np.inf)  # mu_t = 0: grazing, eta <= 1
+    color = np.asarray(color)
+    if color.shape == (3,):
+        t = np.empty(exponent.shape + (3,))
+        for k, T in enumerate(color.tolist()):
+            if T in (0.0, 1.0):
+                t[..., k] = T
+            else:
+                np.exp(exponent * np.log(T), out=t[..., k])
+        return t
     with np.errstate(divide="ignore", invalid="ignore"):
         t = color ** exponent[..., None]
     return pick(color == 1.0, 1.0, pick(color == 0.0, 0.0, t))
@@ -1074,11 +1085,12 @@ def choose(P, u):
         k += beyond
         lo = pick(beyond, cdf, lo)
         Pk = pick(beyond, P[j], Pk)
-        cdf = cdf + P[j]
+        if j + 1 < len(P):
+            cdf = cdf + P[j]
     out = np.array(np.broadcast_to(u, batch + (3,)))  # u1, u2 as they are
     with np.errstate(divide="ignore", invalid="ignore"):
-        out[..., 0] = np.clip((u0 - lo) / pick(Pk > 0.0, Pk, 1.0), 0.0,
-                              np.nextafter(1.0, 0))
+        reused = np.maximum((u0 - lo) / pick(Pk > 0.0, Pk, 1.0), 0.0)  # np.clip, faster
+        np.minimum(reused, np.nextafter(1.0, 0), out=out[..., 0])
     return k, np.array(Pk), out
 
 

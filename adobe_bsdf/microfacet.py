@@ -146,11 +146,13 @@ class _Distribution(_params.Validated):
         """w' = sign(w.z) w stretched to the alpha = 1 configuration and normalised, on
         components: (ax w'x, ay w'y, |w.z|) / |...|, the first step of visible-normal
         sampling (smooth elements use alpha = 1; their samples are replaced)."""
-        sign = pick(wz < 0.0, -1.0, 1.0)
         x = self._ax * wx
-        x *= sign
         y = self._ay * wy
-        y *= sign
+        below = wz < 0.0
+        if np.any(below):  # (times 1 elsewhere: exact)
+            sign = pick(below, -1.0, 1.0)
+            x *= sign
+            y *= sign
         return _normalize(x, y, np.abs(wz))
 
     def _stretched(self, w):
@@ -347,7 +349,7 @@ class GGX(_Distribution):
         x, y, z = self._stretched_direction(wx, wy, wz)
         cos_p, sin_p = azimuth(u0)
         cz = (1.0 - u1) * (1.0 + z) - z
-        sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
+        sin_t = np.sqrt(np.maximum(1.0 - cz * cz, 0.0))  # the bound removes rounding only
         mx = (sin_t * cos_p + x) * ax
         my = (sin_t * sin_p + y) * ay
         mx, my, mz = _normalize(mx, my, cz + z)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf._channels import pick
+from adobe_bsdf._channels import pick, picks
 
-__all__ = ["unit_circle", "azimuth", "concentric_disk", "cosine_hemisphere",
+__all__ = ["unit_circle", "azimuth", "concentric_disk", "disk_xy", "cosine_hemisphere",
            "henyey_greenstein_cos", "G_ISOTROPIC"]
 
 #: below this |g| the Henyey–Greenstein cosine is drawn as the isotropic one (the inversion
@@ -36,20 +36,34 @@ def concentric_disk(u2) -> np.ndarray:
     with a, b = 2 u - 1, the point r (cos phi, sin phi) with r, phi = a, (pi/4) b / a where
     |a| > |b|, else b, pi/2 - (pi/4) a / b; cos and sin of the wedge angle (pi/4) ratio by
     ``unit_circle``."""
-    a = 2.0 * u2[..., 0] - 1.0
-    b = 2.0 * u2[..., 1] - 1.0
+    u2 = np.asarray(u2, dtype=np.float64)
+    out = np.empty(u2.shape[:-1] + (2,))
+    out[..., 0], out[..., 1] = disk_xy(u2[..., 0], u2[..., 1])
+    return out
+
+
+def disk_xy(u0, u1):
+    """``concentric_disk`` on components: ``(x, y)``."""
+    a = 2.0 * u0 - 1.0
+    b = 2.0 * u1 - 1.0
     first = np.abs(a) > np.abs(b)
-    r = pick(first, a, b)
-    ratio = pick(first, b, a) / pick(r == 0.0, 1.0, r)  # in [-1, 1]
+    r, other = picks(first, a, b)
+    ratio = other / pick(r == 0.0, 1.0, r)  # in [-1, 1]
     cos, sin = unit_circle((np.pi / 8.0) * ratio)
-    return np.stack([r * pick(first, cos, sin), r * pick(first, sin, cos)], axis=-1)
+    x, y = picks(first, cos, sin)
+    x *= r
+    y *= r
+    return x, y
 
 
 def cosine_hemisphere(u2) -> np.ndarray:
     """Cosine-weighted direction on the upper hemisphere (Malley's method); pdf = z / pi."""
-    d = concentric_disk(u2)
-    z = np.sqrt(np.maximum(0.0, 1.0 - d[..., 0] ** 2 - d[..., 1] ** 2))
-    return np.concatenate([d, z[..., None]], axis=-1)
+    u2 = np.asarray(u2, dtype=np.float64)
+    out = np.empty(u2.shape[:-1] + (3,))
+    x, y = disk_xy(u2[..., 0], u2[..., 1])
+    out[..., 0], out[..., 1] = x, y
+    np.sqrt(np.maximum(0.0, 1.0 - x ** 2 - y ** 2), out=out[..., 2])
+    return out
 
 
 def henyey_greenstein_cos(u, g) -> np.ndarray:

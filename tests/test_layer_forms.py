@@ -76,6 +76,32 @@ def test_coat_absorption_is_beers_law():
                                rtol=1e-15)
 
 
+def test_coat_absorption_is_the_power_to_rounding():
+    """A constant colour is raised as exp(exponent ln T) channel by channel: within
+    (1 + |ln t|) eps (relative) of T ** exponent over random directions (the rounding of the
+    optical depth), exactly 1 and 0 for white and black channels, and
+    the same values for one direction as for a batch; a textured colour gets the power."""
+    w = _random_pairs(3000, 4)[0]
+    w[:5, 2] = [0.0, 1e-300, 1.0, -1.0, 0.3]
+    for eta in (1.0, 1.2, 1.6, 3.0):
+        for colour in (np.array([0.9, 0.8, 0.5]), np.array([1.0, 0.0, 0.02])):
+            t = coat_absorption(colour, np.asarray(eta), w)
+            mu = np.abs(w[:, 2])
+            mu_t = np.sqrt(np.maximum(1.0 - (1.0 - mu * mu) / eta**2, 0.0))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                power = colour ** np.where(mu_t > 0, 0.5 / mu_t, np.inf)[:, None]
+            power = np.where(colour == 1.0, 1.0, np.where(colour == 0.0, 0.0, power))
+            with np.errstate(divide="ignore"):  # the bound grows with the optical depth
+                depth = np.where(power > 0.0, -np.log(power), 0.0)
+            assert np.all(np.abs(t - power) <= 2.3e-16 * (1.0 + depth) * power)
+            assert np.all(t[:, colour == 1.0] == 1.0) and np.all(t[:, colour == 0.0] == 0.0)
+            np.testing.assert_array_equal(coat_absorption(colour, np.asarray(eta), w[7]), t[7])
+    textured = np.broadcast_to([0.9, 0.8, 0.5], w.shape)
+    np.testing.assert_array_equal(coat_absorption(textured, np.asarray(1.6), w),
+                                  textured ** (0.5 / np.sqrt(1.0 - (1.0 - w[:, 2:] ** 2)
+                                                              / 1.6**2)))
+
+
 def test_the_asm_tint_is_the_coat_absorption():
     """``materials.asm.CoatTransmittance`` computes its t(w) with ``coat_absorption``."""
     w = _random_pairs(500, 1)[0]

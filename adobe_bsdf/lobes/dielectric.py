@@ -298,9 +298,12 @@ class Dielectric(Lobe):
             weight = pick(passes, self._pass_energy(ox, oy, zo) / (eta * eta), weight)
             pdf = pick(passes, 1.0, pdf)
             flags = pick(passes, int(Flags.TRANSMISSION | Flags.DELTA), flags)
-        wi = np.stack(np.broadcast_arrays(ix, iy, pick(below, -iz, iz)), axis=-1)
-        return finished_sample(wi, np.repeat(weight[..., None], 3, axis=-1), pdf,
-                               pick(ok, flags, int(Flags.NONE)))
+        wi = np.empty(shape + (3,))
+        wi[..., 0], wi[..., 1], wi[..., 2] = ix, iy, pick(below, -iz, iz)
+        return finished_sample(wi, np.repeat(np.broadcast_to(weight, shape)[..., None], 3, axis=-1),
+                               np.array(np.broadcast_to(pdf, shape)),
+                               np.array(np.broadcast_to(pick(ok, flags, int(Flags.NONE)), shape)),
+                               fresh=True)
 
     def _pass_energy(self, ox, oy, zo):
         """Energy a pass-through carries from ``wo`` (``zo`` = |cos o| > 0): 1 where

@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf._channels import pick
+from adobe_bsdf._channels import pick, tinted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 from adobe_bsdf.sampling import cosine_hemisphere
@@ -49,16 +49,20 @@ def _albedo_fit(x, y):
     s, m and o vanish with y; they are written s = y s^, m = y m^, o = y o^, so that
     (x - m) / s = (x / y - m^) / s^ stays finite (or +inf, giving the Gaussian 0) for subnormal
     y. E(x, 0) = 0, the limit y -> 0 of the formula at every x > 0 (0 / 0 at y = 0)."""
-    x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    # the coefficients on y as given (a scalar roughness: computed once, not per element)
     s_hat = (0.0206607 + 1.58491 * y) / (0.0379424 + y * (1.32227 + y))
     m_hat = (-0.193854 + y * (-1.14885 + y * (1.7932 - 0.95943 * y * y))) / (0.046391 + y)
     o_hat = (0.000654023 + (-0.0207818 + 0.119681 * y) * y) / (1.26264 + y * (-1.92021 + y))
     live = y > 0.0
-    y_live = pick(live, y, 1.0)
+    y_live = np.where(live, y, 1.0)
     with np.errstate(over="ignore", divide="ignore"):
         t = (x / y_live - m_hat) / s_hat
         gauss = np.exp(-0.5 * (t * t)) / (s_hat * _SQRT_2PI) / y_live
-    return pick(live, np.clip(gauss + y * o_hat, 0.0, 1.0), 0.0)
+    E = np.clip(gauss + y * o_hat, 0.0, 1.0)
+    shape = np.broadcast_shapes(x.shape, y.shape)
+    return np.broadcast_to(E, shape).copy() if live.all() else pick(
+        np.broadcast_to(live, shape), np.broadcast_to(E, shape), 0.0)
 
 
 def _ltc(x, y):
@@ -263,7 +267,7 @@ class LTCSheen(SupportLobe):
     def _top_albedo(self, wo):
         """E of white fuzz, ``(..., 3)`` [OpenPBR2026, §Fuzz]: the fuzz colour does not tint
         the layer below."""
-        return self._albedo(wo)[..., None] * np.ones(3)
+        return tinted(self._albedo(wo), np.ones(3))
 
     def _sampling_weight(self, wo):
         """luminance(color) E, the lobe's albedo."""

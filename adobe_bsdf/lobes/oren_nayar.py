@@ -31,7 +31,7 @@ from adobe_bsdf import _params
 from adobe_bsdf._channels import masked, pick, selected, tinted, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
-from adobe_bsdf.sampling import azimuth, concentric_disk, cosine_hemisphere
+from adobe_bsdf.sampling import azimuth, cosine_hemisphere, disk_xy
 
 __all__ = ["EnergyPreservingOrenNayar", "EON", "fon_albedo", "fon_average_albedo"]
 
@@ -258,7 +258,8 @@ class EnergyPreservingOrenNayar(SupportLobe):
         if weigh:
             with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: failed, zeroed below
                 weight = weighted(self._f(wo, wi, ok), wi[..., 2] / pdf)
-        return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)))
+        return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)),
+                               fresh=True)
 
     def _directions(self, wo, u):
         """wi of the CLTC / uniform mixture (sigma > 0 somewhere)."""
@@ -272,12 +273,12 @@ class EnergyPreservingOrenNayar(SupportLobe):
         # where d > 0), lifted to the hemisphere and mapped by M. The height is
         # 1 - x_c^2 - y^2 = (1 - |p|^2) + (1 - s)(x + r)(x + x_c): the disk's own, which is
         # Lambert's at sigma = 0 (s = 1), plus the squeeze
-        p = concentric_disk(u[..., 1:3])
-        x = cx * p[..., 0] + cy * p[..., 1]
-        y = cx * p[..., 1] - cy * p[..., 0]
+        px, py = disk_xy(u[..., 1], u[..., 2])
+        x = cx * px + cy * py
+        y = cx * py - cy * px
         r = np.sqrt(np.maximum(1.0 - y * y, 0.0))
         x_c = s * x - (1.0 - s) * r
-        z = np.sqrt(np.maximum(0.0, (1.0 - p[..., 0] ** 2 - p[..., 1] ** 2)
+        z = np.sqrt(np.maximum(0.0, (1.0 - px ** 2 - py ** 2)
                                + (1.0 - s) * (x + r) * (x + x_c)))
         x = pick(d > 0.0, -x_c, x_c)
         m = np.stack([a * x + b * z, c * y, d * x + z], axis=-1)
