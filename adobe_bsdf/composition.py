@@ -210,12 +210,15 @@ class Sum(Lobe):
         self.components = tuple(c for c, _ in active)
         #: the active components' weights (None: 1)
         self.weights = tuple(w for _, w in active)
+        #: the weights that scale colours: None where 1 (a product by 1 is exact, so skipped)
+        self._scales = tuple(None if w is None or (w.shape == (3,) and np.all(w == 1.0)) else w
+                             for w in self.weights)
         flags = Flags.NONE
         for c in self.components:
             flags |= c.flags
         self.flags = flags
         #: (component, weight) where only one is active, else None
-        self._single = (self.components[0], self.weights[0]) if len(active) == 1 else None
+        self._single = (self.components[0], self._scales[0]) if len(active) == 1 else None
 
     def __repr__(self) -> str:
         parts = [repr(c) if w is None else f"{w!r} * {c!r}"
@@ -231,7 +234,7 @@ class Sum(Lobe):
 
     def _terms(self, method, *args):
         """Weighted per-component results of ``method`` (a colour-valued private method)."""
-        for c, w in zip(self.components, self.weights, strict=True):
+        for c, w in zip(self.components, self._scales, strict=True):
             value = getattr(c, method)(*args)
             yield value if w is None else scaled(value, w)
 
@@ -287,7 +290,7 @@ class Sum(Lobe):
         if P is None:
             P = self._probabilities(wo)
         f, pdf = None, None
-        for k, (c, w) in enumerate(zip(self.components, self.weights, strict=True)):
+        for k, (c, w) in enumerate(zip(self.components, self._scales, strict=True)):
             fk, pk = c._eval_pdf_t(wo, wi, throughput)
             fk = fk if w is None else scaled(fk, w)
             with np.errstate(over="ignore"):  # saturated below
@@ -323,7 +326,7 @@ class Sum(Lobe):
         w_j / P_j and pdf P_j pdf_j."""
         with np.errstate(over="ignore"):  # saturated below
             f = self._total((fc if w is None else scaled(fc, w) for (fc, _), w
-                             in zip(parts, self.weights, strict=True)), s.wi.shape)
+                             in zip(parts, self._scales, strict=True)), s.wi.shape)
         f = saturated(f)
         P = [take_rows(Pk, index) for Pk in P]
         pdf = sum(Pk * pk for Pk, (_, pk) in zip(P, parts, strict=True))
@@ -331,7 +334,7 @@ class Sum(Lobe):
         delta = (s.flags & int(Flags.DELTA)) != 0
         if not np.any(delta):
             return weight, pdf
-        w, Pj = self.weights[j], P[j]
+        w, Pj = self._scales[j], P[j]
         own = divided(s.weight if w is None else scaled(s.weight, w), pick(Pj > 0, Pj, 1.0))
         return selected(delta, own, weight), pick(delta, Pj * s.pdf, pdf)
 
@@ -359,7 +362,7 @@ class Sum(Lobe):
         P = self._probabilities(wo)
         k, Pk, u = choose(P, u)
         wi, weight, pdf, flags = _chosen_samples(self.components, k, wo, u, throughput,
-                                                 self.weights)
+                                                 self._scales)
         delta = (flags & int(Flags.DELTA)) != 0
         weight = masked(delta, divided(weight, pick(Pk > 0, Pk, 1.0)))
         return BSDFSample(wi, weight, pick(delta, Pk * pdf, pdf), flags), wo, P
@@ -397,7 +400,7 @@ class Sum(Lobe):
 
     def _albedo_table(self, wo, with_error=True):
         values, errors = [], []
-        for c, w in zip(self.components, self.weights, strict=True):
+        for c, w in zip(self.components, self._scales, strict=True):
             value, error = c._albedo_table(wo, with_error)
             values.append(value if w is None else value * w)
             errors.append(error if w is None or error is None else error * w)
@@ -1089,8 +1092,8 @@ def choose(P, u):
             cdf = cdf + P[j]
     out = np.array(np.broadcast_to(u, batch + (3,)))  # u1, u2 as they are
     with np.errstate(divide="ignore", invalid="ignore"):
-        reused = np.maximum((u0 - lo) / pick(Pk > 0.0, Pk, 1.0), 0.0)  # np.clip, faster
-        np.minimum(reused, np.nextafter(1.0, 0), out=out[..., 0])
+        np.clip((u0 - lo) / pick(Pk > 0.0, Pk, 1.0), 0.0, np.nextafter(1.0, 0),
+                out=out[..., 0])
     return k, np.array(Pk), out
 
 

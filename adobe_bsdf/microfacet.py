@@ -349,7 +349,7 @@ class GGX(_Distribution):
         x, y, z = self._stretched_direction(wx, wy, wz)
         cos_p, sin_p = azimuth(u0)
         cz = (1.0 - u1) * (1.0 + z) - z
-        sin_t = np.sqrt(np.maximum(1.0 - cz * cz, 0.0))  # the bound removes rounding only
+        sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
         mx = (sin_t * cos_p + x) * ax
         my = (sin_t * sin_p + y) * ay
         mx, my, mz = _normalize(mx, my, cz + z)

@@ -27,9 +27,12 @@ def _eta(eta) -> np.ndarray:
 
 
 def _mirror_z(w, s):
-    """Mirror ``w`` through the tangent plane where ``s < 0`` (s = +-1, shape (...))."""
-    return np.concatenate([w[..., :2] * np.ones_like(s)[..., None], (w[..., 2] * s)[..., None]],
-                          axis=-1)
+    """Mirror ``w`` through the tangent plane where ``s < 0`` (s = +-1, shape (...)), into a
+    new array of the broadcast shape."""
+    out = np.empty(np.broadcast_shapes(w.shape[:-1], np.shape(s)) + (3,))
+    out[..., 0], out[..., 1] = w[..., 0], w[..., 1]
+    np.multiply(w[..., 2], s, out=out[..., 2])
+    return out
 
 
 def _seen_from(eta, side):
