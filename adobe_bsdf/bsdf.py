@@ -88,7 +88,8 @@ def on_support(kernel, inside, wo, wi, compact: bool = True):
     index = np.flatnonzero(inside)
     if len(index) == n:
         return kernel(wo, wi, None)
-    result = kernel(np.take(wo, index, axis=0), np.take(wi, index, axis=0), None)
+    # (rows of wo: quantities of wo kept for the whole batch serve them, ``_memo.rows``)
+    result = kernel(_memo.rows(wo, index), np.take(wi, index, axis=0), None)
     parts = result if isinstance(result, tuple) else (result,)
     out = tuple(_scatter(p, index, n) for p in parts)
     return out if isinstance(result, tuple) else out[0]

@@ -112,8 +112,18 @@ def darkening(E_b, K, T2=1.0, variant: str = "pr253") -> np.ndarray:
 
 
 def _darkening(E_b, K, T2, variant):
-    """``darkening`` of validated arrays (``K`` with a trailing axis of 1 or 3)."""
-    loop = K * E_b * (T2 if variant == "pr253" else 1.0)
+    """``darkening`` of validated arrays (``K`` with a trailing axis of 1 or 3); for a batch
+    of K ``(..., 1)`` and constant colours, channel by channel (the same operations)."""
+    T2 = T2 if variant == "pr253" else 1.0
+    if K.shape[-1:] == (1,) and np.shape(E_b) == (3,) and np.shape(T2) in ((), (3,)):
+        k = K[..., 0]
+        E_b, T2 = np.asarray(E_b), np.broadcast_to(T2, (3,))
+        out = np.empty(k.shape + (3,))
+        for c in range(3):
+            den = 1.0 - k * E_b[c] * T2[c]
+            out[..., c] = pick(den > 0.0, (1.0 - k) / pick(den > 0.0, den, 1.0), 1.0)
+        return out
+    loop = K * E_b * T2
     den = 1.0 - loop
     return pick(den > 0.0, (1.0 - K) / pick(den > 0.0, den, 1.0), 1.0)
 

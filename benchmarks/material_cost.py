@@ -8,13 +8,16 @@ anisotropic coat (the pair that prices the anisotropic coat's albedo).
 
 For each case, on the same ``n`` random pairs (``throughput.directions``, seed 0; 2·10^5,
 smoke 2000), all threads, the median of ``runs`` timings (3, smoke 2) of the material's
-``eval``, ``pdf``, ``eval_pdf`` and ``sample``, and of ``eval`` of every lobe in
-``material.lobes`` alone (the active lobes: zero-weight lobes are never built). Times are
+``eval``, ``pdf``, ``eval_pdf`` and ``sample``, and of ``eval`` and ``sample`` of every lobe
+in ``material.lobes`` alone (the active lobes: zero-weight lobes are never built). Times are
 given in *memory passes*: the time of one ``np.add(a, b, out=c)`` over float64 ``(n, 3)``
 arrays, taken per element at 10^6 pairs (where the arrays leave the caches; at 2·10^5 the
 same add runs ~25 % faster per element) times n: the unit of the headline section.
 
-The ratios of the acceptance: eval / Σ lobes' eval, sample / Σ lobes' eval, sample / eval.
+The ratios of the acceptance: eval / Σ lobes' eval, sample / Σ lobes' eval, sample / eval;
+and sample / Σ lobes' sample, what a material's sample costs against its lobes' own samples
+(each lobe sampled on every pair, where the material samples each on its share of them but
+evaluates the others at the sampled directions).
 ``before`` repeats the measurement on ``BASELINE`` (the library before the material-cost
 work) in a subprocess of the same run (``benchmarks.baseline.run_script``), on the first
 ``BEFORE_N`` of the pairs. ``unretained`` repeats the materials' eval and sample (one run)
@@ -95,6 +98,8 @@ def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True) -> dic
             if lobes:
                 row["lobes"] = {name: _seconds(lobe, "eval", n, wo, wi, u, runs)
                                 for name, lobe in material.lobes.items()}
+                row["lobe_samples"] = {name: _seconds(lobe, "sample", n, wo, wi, u, runs)
+                                       for name, lobe in material.lobes.items()}
             for call in calls:
                 row[call] = _seconds(material, call, n, wo, wi, u, runs)
             row["faults"] = {c: _faults(material, c, n, wo, wi, u) for c in ("eval", "sample")}
@@ -203,6 +208,9 @@ def summary(section: dict) -> list:
         calls = {c: _passes(section, row[c]) for c in CALLS}
         ratios = {"eval / lobes": calls["eval"] / lobes, "sample / lobes":
                   calls["sample"] / lobes, "sample / eval": calls["sample"] / calls["eval"]}
+        if "lobe_samples" in row:  # (not measured by the library before)
+            calls["lobe samples"] = _passes(section, sum(row["lobe_samples"].values()))
+            ratios["sample / lobe samples"] = calls["sample"] / calls["lobe samples"]
         out.append((row["case"], len(row["lobes"]), lobes, calls, ratios))
     return out
 
@@ -256,8 +264,11 @@ def markdown(section: dict, figure_dir, smoke: bool, link_prefix: str = "figures
             f"{section['runs']} runs, in memory passes (one `np.add` over (n, 3) float64 "
             "arrays, per element as at 10^6 pairs, times n). *Σ lobes*: the sum of `eval` "
             "of every lobe in `material.lobes` timed alone on the same pairs (the active "
-            "lobes; lobes whose weight is zero are never built). Method: "
-            "`benchmarks/material_cost.py`.", ""]
+            "lobes; lobes whose weight is zero are never built). *Σ lobes' sample*: the "
+            "same lobes' `sample`, each on every pair; a material samples each lobe on the "
+            "pairs that chose it and evaluates the others at the sampled directions (all in "
+            "their support, where `eval` on these pairs skips the half below the surface). "
+            "Method: `benchmarks/material_cost.py`.", ""]
     plt = pyplot()
     name = "performance_materials.png"
     if plt is not None and _plot(plt, section, figure_dir / name):
@@ -265,15 +276,17 @@ def markdown(section: dict, figure_dir, smoke: bool, link_prefix: str = "figures
     before = section.get("before", {})
     old = {r[0]: r for r in summary(before)} if "rows" in before else {}
     out += ["| case | lobes | Σ lobes | eval | pdf | eval_pdf | sample | eval / Σ | "
-            "sample / Σ | sample / eval | before: eval, sample |",
-            "|---|---|---|---|---|---|---|---|---|---|---|"]
+            "sample / Σ | sample / eval | Σ lobes' sample | sample / Σ lobes' sample | "
+            "before: eval, sample |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     rows = summary(section)
     for label, k, lobes, calls, ratios in rows:
         was = old.get(label)
         then = f"{was[3]['eval']:.0f}, {was[3]['sample']:.0f}" if was else "–"
+        own = (f"{calls['lobe samples']:.0f} | {ratios['sample / lobe samples']:.2f}"
+               if "lobe samples" in calls else "– | –")
         out.append(f"| {label} | {k} | {lobes:.0f} | "
                    + " | ".join(f"{calls[c]:.0f}" for c in CALLS) + " | "
-                   + " | ".join(f"{ratios[r]:.2f}" for r in BOUNDS) + f" | {then} |")
+                   + " | ".join(f"{ratios[r]:.2f}" for r in BOUNDS) + f" | {own} | {then} |")
     errors = [r for r in section["rows"] if "error" in r]
     if errors:
         out += [""] + [f"- {r['case']}: {r['error']}" for r in errors]

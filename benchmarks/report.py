@@ -201,9 +201,12 @@ def _headline(results: dict) -> list:
         return missing
     mi = _mitsuba_rows(results.get("mitsuba"))
     rows = {(r["lobe"], r["call"], r["threads"]): r for r in hl["rows"]}
-    calls = [c for c in CALLS if any(r["call"] == c for r in hl["rows"])]
+    calls = [c for c in CALLS + ("eval_above",) if any(r["call"] == c for r in hl["rows"])]
     out += [f"`eval`, `pdf`, `eval_pdf` and `sample` on {_n(hl['n'])} pairs: evaluations per "
-            "second (memory passes in parentheses). *NumPy / Mitsuba* is the ratio of the "
+            "second (memory passes in parentheses). *eval_above*: `eval` on the same pairs "
+            "with `wi` mirrored above the surface, where every sample lies (on the uniform "
+            "pairs a one-sided lobe skips the half of them outside its support). *NumPy / "
+            "Mitsuba* is the ratio of the "
             "times of the same call (NumPy float64 against Mitsuba 3 `llvm_ad_rgb` float32, "
             "both on all cores); Mitsuba uses separable Smith masking, the NumPy lobes their "
             "default height-correlated form.", ""]
@@ -225,6 +228,14 @@ def _headline(results: dict) -> list:
             out.append(f"| {key} | {thr} | " + " | ".join(cells)
                        + f" | {_time(ev.get('seconds'))} | {', '.join(ratios)} |")
     out += ["", f"One memory pass at {_n(hl['n'])}: {_time(hl['memory_pass_seconds'])}.", ""]
+    for key in hl["labels"]:
+        threads = hl["threads"][0]
+        s, e, a = (rows.get((key, c, threads), {}).get("seconds")
+                   for c in ("sample", "eval", "eval_above"))
+        if s and e and a:
+            out.append(f"- {key} (all threads): sample / eval = {s / e:.2f}, sample / "
+                       f"eval_above = {s / a:.2f} (bound of sample / eval: 1.6)")
+    out.append("")
     if not hl.get("has_config"):
         out += ["(This commit has no `adobe_bsdf.config`: default threading only.)", ""]
     return out

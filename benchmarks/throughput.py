@@ -165,17 +165,24 @@ def headline_lobes(masking: str | None = None) -> dict:
 
 
 def headline(wo, wi, u, smoke: bool = False) -> dict:
-    """Headline lobes: every call at the reference size (10^6; smoke 10^4), all threads."""
+    """Headline lobes: every call at the reference size (10^6; smoke 10^4), all threads and
+    one, and "eval_above": ``eval`` with ``wi`` mirrored above the surface (where a sample's
+    directions lie; ``eval`` on the uniform pairs skips the half outside the support)."""
     n = SMOKE_SIZES[-1] if smoke else SLICE
     runs = SMOKE_RUNS if smoke else RUNS
     rows = []
     labels = {}
+    above = wi[:n].copy()  # "eval_above": every pair in a one-sided lobe's support
+    above[:, 2] = np.abs(above[:, 2])
     for key, (label, lobe) in headline_lobes().items():
         labels[key] = label
         for call in _calls(lobe):
             _call(lobe, call, wo[:1000], wi[:1000], u[:1000])  # warm-up
             for threads in thread_variants():
                 rows.append({"lobe": key, **_measure(lobe, call, n, threads, wo, wi, u, runs)})
+        for threads in thread_variants():
+            rows.append({"lobe": key, **_measure(lobe, "eval", n, threads, wo, above, u, runs),
+                         "call": "eval_above"})
     return {"n": n, "runs": runs, "labels": labels, "threads": thread_variants(),
             "memory_pass_seconds": memory_pass(n, runs)[0],
             "has_config": config is not None, "rows": rows}

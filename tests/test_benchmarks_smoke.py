@@ -294,6 +294,8 @@ def test_material_cost(smoke):
     for row in section["rows"]:
         assert "error" not in row, row
         assert row["lobes"] and all(t > 0 for t in row["lobes"].values()), row
+        assert row["lobe_samples"].keys() == row["lobes"].keys(), row
+        assert all(t > 0 for t in row["lobe_samples"].values()), row
         assert all(row[call] > 0 for call in material_cost.CALLS), row
     assert section["pass_seconds"] > 0
     assert "rows" in section["before"], section["before"].get("error")

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf import _params
+from adobe_bsdf import _memo, _params
 from adobe_bsdf._channels import pick, tinted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
@@ -193,7 +193,11 @@ class LTCSheen(SupportLobe):
     # -- the fits at wo ---------------------------------------------------------------------
     def _fit(self, wo):
         """``(E, aInv, bInv)`` at cos theta_o = wo_z (clipped to [0, 1]); E = 0 where aInv = 0
-        (alpha = 0, or aInv underflows: the lobe is 0 there)."""
+        (alpha = 0, or aInv underflows: the lobe is 0 there). Once per call for this ``wo``
+        (``_memo``): the layer's E_top, the sampling weight and f all need it."""
+        return _memo.once(self, "fit", wo, self._fit_now)
+
+    def _fit_now(self, wo):
         x = np.clip(wo[..., 2], 0.0, 1.0)
         a, b = _ltc(x, self.roughness)
         return pick(a > 0.0, _albedo_fit(x, self.roughness), 0.0), a, b
