@@ -254,7 +254,10 @@ class Sum(Lobe):
     def _probabilities(self, wo):
         w = np.stack(np.broadcast_arrays(*self._shares(wo)))
         total = w.sum(axis=0)
-        return pick(total > 0.0, w / pick(total > 0.0, total, 1.0), 1.0 / len(w))
+        positive = total > 0.0
+        if positive.all():  # (the selections below would keep every value)
+            return w / total
+        return pick(positive, w / pick(positive, total, 1.0), 1.0 / len(w))
 
     def _batch(self, wo, wi):
         return np.broadcast_shapes(wo.shape, wi.shape)[:-1]
@@ -330,7 +333,9 @@ class Sum(Lobe):
         f = saturated(f)
         P = [take_rows(Pk, index) for Pk in P]
         pdf = sum(Pk * pk for Pk, (_, pk) in zip(P, parts, strict=True))
-        weight = masked(pdf > 0.0, divided(f, pick(pdf > 0.0, pdf, 1.0)))
+        positive = pdf > 0.0
+        weight = (divided(f, pdf, out=f) if positive.all()
+                  else masked(positive, divided(f, pick(positive, pdf, 1.0))))
         delta = (s.flags & int(Flags.DELTA)) != 0
         if not np.any(delta):
             return weight, pdf
@@ -693,7 +698,9 @@ class Layer(Lobe):
     def _probabilities(self, wo, scaled, E_top):
         top, base = np.broadcast_arrays(*self._shares(wo, scaled, E_top))
         total = top + base
-        P_top = pick(total > 0.0, top / pick(total > 0.0, total, 1.0), 0.5)
+        positive = total > 0.0
+        P_top = (top / total if positive.all()
+                 else pick(positive, top / pick(positive, total, 1.0), 0.5))
         return np.stack([P_top, 1.0 - P_top])
 
     # -- protocol ---------------------------------------------------------------------------
