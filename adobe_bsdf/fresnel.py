@@ -89,7 +89,8 @@ def _dielectric(cos_i: np.ndarray, eta_t, eta_i=1.0) -> np.ndarray:
     apart so that k = eta^2 - 1 is formed without the rounding of the ratio (which, near
     eta = 1, would dominate the result)."""
     flip = cos_i < 0.0
-    eta_t, eta_i = pick(flip, eta_i, eta_t), pick(flip, eta_t, eta_i)
+    if np.any(flip):  # (else the indices stay as given: scalars keep the scalar path)
+        eta_t, eta_i = pick(flip, eta_i, eta_t), pick(flip, eta_t, eta_i)
     eta = eta_t / eta_i
     return _dielectric_k(np.abs(cos_i), _k_of_indices(eta_t, eta_i), eta * eta)
 
