@@ -25,6 +25,10 @@ __all__ = ["tinted", "scaled", "weighted", "divided", "masked", "selected", "pic
 
 #: below this many pairs the plain broadcast is as fast (three calls cost ~1 us more)
 SMALL = 2048
+#: the shares of set elements of a mask between which ``pick`` selects bits: outside them
+#: NumPy's branching ``where`` is faster (its branches are predicted), inside several times
+#: slower (``benchmarks/pick.py`` measures the crossover)
+BITWISE_SHARES = (0.15, 0.8)
 
 
 def _fast(batch: np.ndarray) -> bool:
@@ -122,16 +126,17 @@ def selected(mask, a, b) -> np.ndarray:
 
 def pick(mask, a, b) -> np.ndarray:
     """``np.where(mask, a, b)`` bit for bit, for ``a``, ``b`` float64 arrays of the shape of
-    the boolean array ``mask`` or Python / NumPy float scalars: where between 5 % and 95 %
-    of the mask is set (an unpredictable branch), the bits are selected without branching,
-    b ^ ((a ^ b) & -mask), about 3.4 times faster; otherwise NumPy's own."""
+    the boolean array ``mask`` or Python / NumPy float scalars: where the share of the mask
+    that is set lies in ``BITWISE_SHARES`` (an unpredictable branch), the bits are selected
+    without branching, b ^ ((a ^ b) & -mask), up to four times faster; otherwise NumPy's
+    own (faster where the mask is nearly uniform)."""
     if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.size >= SMALL):
         return np.where(mask, a, b)
     bits_a, bits_b = _bits(a, mask.shape), _bits(b, mask.shape)
     if bits_a is None or bits_b is None or (bits_a.ndim == 0 and bits_b.ndim == 0):
         return np.where(mask, a, b)
     count = np.count_nonzero(mask)
-    if not 0.05 * mask.size < count < 0.95 * mask.size:
+    if not BITWISE_SHARES[0] * mask.size < count < BITWISE_SHARES[1] * mask.size:
         return np.where(mask, a, b)
     k = mask.view(np.uint8).astype(np.int64)
     np.negative(k, out=k)  # all ones where set
@@ -147,7 +152,8 @@ def picks(mask, a, b) -> tuple[np.ndarray, np.ndarray]:
     if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.size >= SMALL
             and all(isinstance(x, np.ndarray) and x.dtype == np.float64
                     and x.shape == mask.shape for x in (a, b))
-            and 0.05 * mask.size < np.count_nonzero(mask) < 0.95 * mask.size):
+            and BITWISE_SHARES[0] * mask.size < np.count_nonzero(mask)
+            < BITWISE_SHARES[1] * mask.size):
         return np.where(mask, a, b), np.where(mask, b, a)
     bits_a, bits_b = a.view(np.int64), b.view(np.int64)
     d = mask.view(np.uint8).astype(np.int64)

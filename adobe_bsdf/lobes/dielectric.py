@@ -261,10 +261,13 @@ class Dielectric(Lobe):
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
         below = oz < 0.0
+        any_below = bool(np.any(below))  # else eta and the side stay scalars (same values)
         zo = np.abs(oz)
-        eta = pick(below, 1.0 / self.eta, self.eta)  # n on the far side / n on wo's side
+        # n on the far side / n on wo's side
+        eta = pick(below, 1.0 / self.eta, self.eta) if any_below else self.eta
         shape = np.broadcast_shapes(eta.shape, u.shape[:-1], d.smooth.shape)
         smooth = np.broadcast_to(d.smooth, shape)
+        any_smooth = bool(np.any(smooth))  # (else the selections by it are the identity)
         mx, my, mz = d.sample_visible_xyz(ox, oy, zo, u[..., 1], u[..., 2])
         cos_om = ox * mx + oy * my + zo * mz
         inv_eta = 1.0 / eta
@@ -272,8 +275,11 @@ class Dielectric(Lobe):
         refracted = sin2_t < 1.0
         cos_t = np.sqrt(np.maximum(0.0, 1.0 - sin2_t))  # |wt.m|
         # F as _refract computes it: from the less dense side (TIR where nothing refracts)
-        (k, eta2), light = _light_side(self.eta, pick(below, -1.0, 1.0))
-        F = pick(refracted, _dielectric_k(pick(light, cos_om, cos_t), k, eta2), 1.0)
+        (k, eta2), light = _light_side(self.eta, pick(below, -1.0, 1.0) if any_below else 1.0)
+        F = _dielectric_k(pick(light, cos_om, cos_t) if np.ndim(light) else
+                          (cos_om if light else cos_t), k, eta2)
+        if not refracted.all():
+            F = pick(refracted, F, 1.0)
         choose_r = u[..., 0] < F
         # wi = a m - b wo: reflection 2 (wo.m) m - wo, refraction (cos_om / eta - cos_t) m
         # - wo / eta
@@ -283,15 +289,18 @@ class Dielectric(Lobe):
         ok = (zo > 0.0) & (cos_om > 0.0) & pick(choose_r, iz > 0.0, refracted & (iz < 0.0))
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, zo)
-            g = pick(smooth, 1.0,
-                         d.G2_over_G1_of(zo, s_o, np.abs(iz), d.projected(ix, iy, iz)))
+            g = d.G2_over_G1_of(zo, s_o, np.abs(iz), d.projected(ix, iy, iz))
+            if any_smooth:
+                g = pick(smooth, 1.0, g)
             P = d.D_of_sum(mx, my, mz, 1.0) / (2.0 * (zo + s_o))  # D_wo(m) / (4 wo.m)
             den_t = cos_om - eta * cos_t  # 0 only for eta = 1 (handled below)
             pdf_t = (1.0 - F) * 4.0 * cos_om * P * eta * eta * cos_t / (den_t * den_t)
-            pdf = pick(smooth, pick(choose_r, F, 1.0 - F),
-                           pick(choose_r, F * P, pdf_t))
+            pdf = pick(choose_r, F * P, pdf_t)
+            if any_smooth:
+                pdf = pick(smooth, pick(choose_r, F, 1.0 - F), pdf)
         weight = pick(choose_r, g, g / (eta * eta))  # radiance: eta_o^2 / eta_i^2
-        lobe = pick(smooth, int(Flags.DELTA), int(Flags.GLOSSY))
+        lobe = pick(smooth, int(Flags.DELTA), int(Flags.GLOSSY)) if any_smooth else int(
+            Flags.GLOSSY)
         flags = lobe | pick(choose_r, int(Flags.REFLECTION), int(Flags.TRANSMISSION))
         # a pass-through: the light goes straight on, with the energy of the lobe
         passes = np.broadcast_to(self.passes, shape)
@@ -302,11 +311,12 @@ class Dielectric(Lobe):
             pdf = pick(passes, 1.0, pdf)
             flags = pick(passes, int(Flags.TRANSMISSION | Flags.DELTA), flags)
         wi = np.empty(shape + (3,))
-        wi[..., 0], wi[..., 1], wi[..., 2] = ix, iy, pick(below, -iz, iz)
-        return finished_sample(wi, np.repeat(np.broadcast_to(weight, shape)[..., None], 3, axis=-1),
-                               np.array(np.broadcast_to(pdf, shape)),
-                               np.array(np.broadcast_to(pick(ok, flags, int(Flags.NONE)), shape)),
-                               fresh=True)
+        wi[..., 0], wi[..., 1], wi[..., 2] = ix, iy, pick(below, -iz, iz) if any_below else iz
+        flags = pick(ok, flags, int(Flags.NONE))
+        pdf, flags = (x if x.shape == shape else np.array(np.broadcast_to(x, shape))
+                      for x in (pdf, flags))  # (the arrays are this call's own)
+        return finished_sample(wi, np.repeat(np.broadcast_to(weight, shape)[..., None], 3,
+                                             axis=-1), pdf, flags, fresh=True)
 
     def _pass_energy(self, ox, oy, zo):
         """Energy a pass-through carries from ``wo`` (``zo`` = |cos o| > 0): 1 where

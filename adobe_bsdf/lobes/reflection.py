@@ -175,19 +175,24 @@ class MicrofacetReflection(SupportLobe):
         iz = wi[..., 2]
         ok = (oz > 0.0) & (iz > 0.0) & (cos_om > 0.0)
         smooth = np.broadcast_to(d.smooth, ok.shape)
+        any_smooth = bool(np.any(smooth))  # (else the selections by it are the identity)
         weight = None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             s_o = d.projected(ox, oy, oz)
             D = d.D_of_sum(mx, my, mz, 1.0)
-            pdf = pick(smooth, 1.0, self._p(wo, ok, D, s_o))
+            pdf = self._p(wo, ok, D, s_o)
+            if any_smooth:
+                pdf = pick(smooth, 1.0, pdf)
             if weigh:
                 s_i = d.projected(wi[..., 0], wi[..., 1], iz)
-                g = pick(smooth | ~ok, 1.0, d.G2_over_G1_of(oz, s_o, iz, s_i))
+                g = pick(smooth | ~ok if any_smooth else ~ok, 1.0,
+                         d.G2_over_G1_of(oz, s_o, iz, s_i))
         if weigh:
             F = self._F2(cos_om * cos_om)
             weight = np.repeat(g[..., None], 3, axis=-1) if F is None else F * g[..., None]
-        flags = pick(smooth, int(Flags.REFLECTION | Flags.DELTA),
-                         int(Flags.REFLECTION | Flags.GLOSSY))
+        flags = (pick(smooth, int(Flags.REFLECTION | Flags.DELTA),
+                      int(Flags.REFLECTION | Flags.GLOSSY)) if any_smooth
+                 else int(Flags.REFLECTION | Flags.GLOSSY))
         return finished_sample(wi, weight, pdf, pick(ok, flags, int(Flags.NONE)), fresh=True)
 
     def _albedo_table(self, wo, with_error=True):
