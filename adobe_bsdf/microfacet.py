@@ -84,13 +84,19 @@ def _stack(x, y, z) -> np.ndarray:
 
 def _normalize(x, y, z):
     """(x, y, z) / |(x, y, z)| on components; ``x`` and ``y`` are scaled in place."""
-    inv = x * x
-    inv += y * y
-    inv += z * z
-    inv = 1.0 / np.sqrt(inv)
+    return _normalized(x, y, z)[:3]
+
+
+def _normalized(x, y, z):
+    """``_normalize`` and the length |(x, y, z)|: ``(x, y, z, length)``."""
+    length = x * x
+    length += y * y
+    length += z * z
+    np.sqrt(length, out=length)
+    inv = 1.0 / length
     x *= inv
     y *= inv
-    return x, y, z * inv
+    return x, y, z * inv, length
 
 
 class _Distribution(_params.Validated):
@@ -145,7 +151,8 @@ class _Distribution(_params.Validated):
     def _stretched_direction(self, wx, wy, wz):
         """w' = sign(w.z) w stretched to the alpha = 1 configuration and normalised, on
         components: (ax w'x, ay w'y, |w.z|) / |...|, the first step of visible-normal
-        sampling (smooth elements use alpha = 1; their samples are replaced)."""
+        sampling (smooth elements use alpha = 1; their samples are replaced); and the
+        length |...|, which is GGX's S(w) where the surface is rough: ``(x, y, z, length)``."""
         x = self._ax * wx
         y = self._ay * wy
         below = wz < 0.0
@@ -153,7 +160,7 @@ class _Distribution(_params.Validated):
             sign = pick(below, -1.0, 1.0)
             x *= sign
             y *= sign
-        return _normalize(x, y, np.abs(wz))
+        return _normalized(x, y, np.abs(wz))
 
     def _stretched(self, w):
         """|w.z| and the projected roughness term t = sqrt(ax^2 wx^2 + ay^2 wy^2), so that
@@ -177,6 +184,12 @@ class _Distribution(_params.Validated):
     def sample_visible_xyz(self, wx, wy, wz, u0, u1):
         """``sample_visible`` on components: returns (mx, my, mz)."""
         raise NotImplementedError
+
+    def visible_and_projected(self, wx, wy, wz, u0, u1):
+        """``(mx, my, mz, S(w))``: ``sample_visible_xyz`` and ``projected(wx, wy, |wz|)``
+        (GGX shares the work)."""
+        return (*self.sample_visible_xyz(wx, wy, wz, u0, u1), self.projected(wx, wy,
+                                                                              np.abs(wz)))
 
     def _projected_alpha(self, w):
         """|w.z| and S(w) (``projected``)."""
@@ -345,8 +358,14 @@ class GGX(_Distribution):
         """Visible normal (mx, my, mz) by the spherical-cap method of [DupuyBenyoub2023]:
         stretch w' = sign(wz) w to the hemisphere configuration, sample the cap of the unit
         sphere cut by the plane z = -w_h.z, add w_h, unstretch."""
+        return self.visible_and_projected(wx, wy, wz, u0, u1)[:3]
+
+    def visible_and_projected(self, wx, wy, wz, u0, u1):
+        """``(mx, my, mz, S(w))``: the stretch of w's length is S(w) = |(ax wx, ay wy, wz)|
+        (``projected``, the same operations in the same order: bit for bit), computed once;
+        where an element is smooth S is ``projected``'s own."""
         ax, ay = self._ax, self._ay
-        x, y, z = self._stretched_direction(wx, wy, wz)
+        x, y, z, s = self._stretched_direction(wx, wy, wz)
         cos_p, sin_p = azimuth(u0)
         cz = (1.0 - u1) * (1.0 + z) - z
         sin_t = np.sqrt(np.clip(1.0 - cz * cz, 0.0, 1.0))  # the clip removes rounding only
@@ -356,7 +375,8 @@ class GGX(_Distribution):
         if np.any(self.smooth):
             mx, my, mz = (pick(self.smooth, v, c) for v, c in ((0.0, mx), (0.0, my),
                                                                    (1.0, mz)))
-        return mx, my, mz
+            s = pick(self.smooth, self.projected(wx, wy, np.abs(wz)), s)
+        return mx, my, mz, s
 
 
 #: bracket of the stretched visible slope in ``Beckmann.sample_visible``: erfc(40) underflows
@@ -425,7 +445,7 @@ class Beckmann(_Distribution):
         A uniform below 2^-54 is raised to it (at 0 the slope would be infinite).
         """
         shape = np.broadcast_shapes(np.shape(wz), np.shape(u0), np.shape(u1), self.param_shape)
-        sx, sy, sz = self._stretched_direction(wx, wy, wz)
+        sx, sy, sz, _ = self._stretched_direction(wx, wy, wz)
         sin_t = np.hypot(sx, sy)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # sin_t subnormal
             cos_p = pick(sin_t > 0.0, sx / sin_t, 1.0)

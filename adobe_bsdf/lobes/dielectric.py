@@ -268,7 +268,7 @@ class Dielectric(Lobe):
         shape = np.broadcast_shapes(eta.shape, u.shape[:-1], d.smooth.shape)
         smooth = np.broadcast_to(d.smooth, shape)
         any_smooth = bool(np.any(smooth))  # (else the selections by it are the identity)
-        mx, my, mz = d.sample_visible_xyz(ox, oy, zo, u[..., 1], u[..., 2])
+        mx, my, mz, s_o = d.visible_and_projected(ox, oy, zo, u[..., 1], u[..., 2])
         cos_om = ox * mx + oy * my + zo * mz
         inv_eta = 1.0 / eta
         sin2_t = inv_eta * inv_eta * np.maximum(0.0, 1.0 - cos_om * cos_om)
@@ -288,7 +288,6 @@ class Dielectric(Lobe):
         ix, iy, iz = a * mx - b * ox, a * my - b * oy, a * mz - b * zo
         ok = (zo > 0.0) & (cos_om > 0.0) & pick(choose_r, iz > 0.0, refracted & (iz < 0.0))
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            s_o = d.projected(ox, oy, zo)
             g = d.G2_over_G1_of(zo, s_o, np.abs(iz), d.projected(ix, iy, iz))
             if any_smooth:
                 g = pick(smooth, 1.0, g)

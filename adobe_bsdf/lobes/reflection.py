@@ -168,7 +168,7 @@ class MicrofacetReflection(SupportLobe):
         (``_sample_directions``)."""
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
-        mx, my, mz = d.sample_visible_xyz(ox, oy, oz, u[..., 1], u[..., 2])
+        mx, my, mz, s_o = d.visible_and_projected(ox, oy, oz, u[..., 1], u[..., 2])
         cos_om = ox * mx + oy * my + oz * mz
         two_cos = 2.0 * cos_om
         wi = np.stack([two_cos * mx - ox, two_cos * my - oy, two_cos * mz - oz], axis=-1)
@@ -178,7 +178,6 @@ class MicrofacetReflection(SupportLobe):
         any_smooth = bool(np.any(smooth))  # (else the selections by it are the identity)
         weight = None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            s_o = d.projected(ox, oy, oz)
             D = d.D_of_sum(mx, my, mz, 1.0)
             pdf = self._p(wo, ok, D, s_o)
             if any_smooth:
