@@ -92,7 +92,7 @@ def _normalized(x, y, z):
     length = x * x
     length += y * y
     length += z * z
-    np.sqrt(length, out=length)
+    length = np.sqrt(length, out=length if isinstance(length, np.ndarray) else None)
     inv = 1.0 / length
     x *= inv
     y *= inv
