@@ -14,7 +14,7 @@ N = 65536
 SHARES = (0.0, 0.05, 0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 0.8, 0.85, 0.9, 0.95, 1.0)
 
 
-def _median_us(f, runs: int = 200) -> float:
+def _median_us(f, runs: int = 50) -> float:
     f()
     times = []
     for _ in range(runs):

@@ -300,3 +300,13 @@ def test_material_cost(smoke):
     assert section["pass_seconds"] > 0
     assert "rows" in section["before"], section["before"].get("error")
     assert "## Whole materials against their lobes" in text and "sample / eval" in text
+
+
+def test_pick_crossover_runs():
+    """``benchmarks.pick`` times np.where, the bitwise select and ``pick`` for every share
+    (tiny size; speed not asserted)."""
+    from benchmarks import pick
+
+    rows = pick.measure(n=4096)
+    assert [r[0] for r in rows] == list(pick.SHARES)
+    assert all(t > 0 for r in rows for t in r[1:])
