@@ -968,10 +968,20 @@ class Rotated(Wrapper):
         x, y = w[..., 0], w[..., 1]
         return np.stack(np.broadcast_arrays(c * x - s * y, s * x + c * y, w[..., 2]), axis=-1)
 
+    @property
+    def _identity(self) -> bool:
+        """phi = 0: directions pass unturned (the rotation's products would change nothing
+        but the sign of a zero component)."""
+        return self.phi.ndim == 0 and self.phi == 0.0
+
     def _to_inner(self, w):
+        if self._identity:
+            return w
         return _memo.once(self, "to_inner", w, lambda w: self._turn(w, -1.0))
 
     def _from_inner(self, sample, wo):
+        if self._identity:
+            return sample
         return BSDFSample(self._turn(sample.wi, 1.0), sample.weight, sample.pdf, sample.flags)
 
 

@@ -20,10 +20,19 @@ def _pairs(n=2000, seed=1):
 
 
 def test_zero_rotation_is_the_lobe_bit_for_bit():
+    """phi = 0 passes directions unturned: eval, pdf and every field of sample are the
+    lobe's own bits, signed zeros included, and the caller's arrays stay writeable."""
     wo, wi = _pairs()
+    wo[:3, :2] = [[-0.0, 0.6], [0.6, -0.0], [-0.0, -0.0]]
+    wo[:3] = ab.frame.normalize(np.where(np.arange(3)[:, None] == 2, [[-0.0, -0.0, 1.0]], wo[:3]))
+    u = np.random.default_rng(2).random((len(wo), 3))
     for lobe in (Conductor(0.5, 0.1), Dielectric(1.5, 0.3, 0.05)):
-        np.testing.assert_array_equal(Rotated(lobe, 0.0).eval(wo, wi), lobe.eval(wo, wi))
-        np.testing.assert_array_equal(Rotated(lobe, 0.0).pdf(wo, wi), lobe.pdf(wo, wi))
+        turned = Rotated(lobe, 0.0)
+        np.testing.assert_array_equal(turned.eval(wo, wi), lobe.eval(wo, wi))
+        np.testing.assert_array_equal(turned.pdf(wo, wi), lobe.pdf(wo, wi))
+        for a, b in zip(turned.sample(wo, u), lobe.sample(wo, u), strict=True):
+            assert a.tobytes() == b.tobytes()
+    assert wo.flags.writeable and wi.flags.writeable
 
 
 def test_quarter_turn_swaps_the_alphas():

@@ -8,7 +8,7 @@ import numpy as np
 
 from adobe_bsdf import _memo
 from adobe_bsdf._channels import pick, tinted, weighted
-from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
+from adobe_bsdf.bsdf import Flags, Lobe, finished_sample, on_support
 from adobe_bsdf.lobes.dielectric import _mirror_z
 from adobe_bsdf.sampling import cosine_hemisphere
 
@@ -47,8 +47,16 @@ class Separable(Lobe):
         return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
 
     def _eval(self, wo, wi):
-        g = pick(self._support(wo, wi), self._X_at(wo) * self._X_at(wi), 0.0)
+        # X(wo) X(wi) on the support only (``on_support``: the tables are not looked up
+        # where f is 0), 0 elsewhere
+        g = on_support(self._g, self._support(wo, wi), wo, wi,
+                       compact=self._param_shape() == ())
         return tinted(g, self._coefficient(wo, wi))  # c >= 0 finite: c 0 = 0 off the support
+
+    def _g(self, wo, wi, up):
+        """X(wo) X(wi), 0 outside ``up`` (None: every pair is in the support)."""
+        g = self._X_at(wo) * self._X_at(wi)
+        return g if up is None else pick(up, g, 0.0)
 
     def _pdf(self, wo, wi):
         p_r = self._reflect_probability(wo)
