@@ -12,9 +12,10 @@ place fails instead of corrupting the next request. Nothing changes a result: a 
 the one ``compute`` gives.
 
 ``rows(w, index)`` gathers rows of ``w`` for a part of the batch (a mixture's elements that
-chose one component): a later ``once`` on the gathered array takes the rows of the value
-already kept for ``w`` instead of computing it again (the quantities are per row, so these
-are the values ``compute`` would give on the rows).
+chose one component, a lobe's support): a later ``once`` on the gathered array takes the rows
+of the value already kept for ``w`` instead of computing it again (the quantities are per
+row, so these are the values ``compute`` would give on the rows). Rows of gathered rows are
+linked to the array first gathered from.
 """
 
 from __future__ import annotations
@@ -69,19 +70,25 @@ def rows(w, index):
     part = np.asarray(w).take(index, axis=0)
     table = getattr(_local, "table", None)
     if table is not None and len(w) >= ROWS_MIN:
-        table[("rows", id(part))] = (part, w, index)
+        sources = [(w, index)]
+        link = table.get(("rows", id(w)))
+        if link is not None and link[0] is w:  # rows of rows: also the first array's rows
+            sources += [(source, rows_of[index]) for source, rows_of in link[1]]
+        table[("rows", id(part))] = (part, sources)
     return part
 
 
 def _gathered(table, owner, name, w):
-    """The rows of the value kept for the array ``w`` was gathered from, or None."""
+    """The rows of the value kept for an array ``w`` was gathered from, or None."""
     link = table.get(("rows", id(w)))
     if link is None or link[0] is not w:
         return None
-    _, source, index = link
-    entry = table.get((id(owner), name, id(source)))
-    if entry is None or entry[0] is not source or entry[1] is not owner:
+    kept = [(source, index, table.get((id(owner), name, id(source))))
+            for source, index in link[1]]
+    kept = [(s, i, e) for s, i, e in kept if e is not None and e[0] is s and e[1] is owner]
+    if not kept:
         return None
+    source, index, entry = kept[0]  # the nearest array with a kept value
     n = len(source)
 
     def take(part):

@@ -72,14 +72,19 @@ def _like(part: np.ndarray, n: int) -> np.ndarray:
     return np.empty((n, *part.shape[1:]), dtype=part.dtype)
 
 
+#: ``on_support`` gathers the pairs inside only where at most this share of them is inside
+COMPACT_SHARE = 0.9
+
+
 def on_support(kernel, inside, wo, wi, compact: bool = True):
     """``kernel(wo, wi, up)`` evaluated only where ``inside`` (a lobe's support), zero
     elsewhere; the same values as running it everywhere and masking.
 
-    With ``compact`` (the lobe's parameters are scalars) and 2-D batches ``(n, 3)``, the pairs
-    inside are gathered and the kernel runs on them alone with ``up = None``: it may then
-    skip every test of the support. Otherwise it runs on the whole batch with ``up = inside``
-    and must itself give 0 where ``up`` is False. ``kernel`` returns an array or a tuple of
+    With ``compact`` (the lobe's parameters are scalars), 2-D batches ``(n, 3)`` and at most
+    ``COMPACT_SHARE`` of the pairs inside, those pairs are gathered and the kernel runs on
+    them alone with ``up = None``: it may then skip every test of the support. Otherwise it
+    runs on the whole batch with ``up = inside`` (``None`` where every pair is inside) and
+    must itself give 0 where ``up`` is False. ``kernel`` returns an array or a tuple of
     arrays with the batch as first axis.
     """
     if not compact or wo.ndim != 2 or wi.ndim != 2 or wo.shape != wi.shape:
@@ -88,6 +93,8 @@ def on_support(kernel, inside, wo, wi, compact: bool = True):
     index = np.flatnonzero(inside)
     if len(index) == n:
         return kernel(wo, wi, None)
+    if len(index) > COMPACT_SHARE * n:  # a gather would cost more than the few pairs outside
+        return kernel(wo, wi, inside)
     # (rows of wo: quantities of wo kept for the whole batch serve them, ``_memo.rows``)
     result = kernel(_memo.rows(wo, index), np.take(wi, index, axis=0), None)
     parts = result if isinstance(result, tuple) else (result,)

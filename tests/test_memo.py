@@ -107,6 +107,11 @@ def test_rows_of_an_array_take_the_rows_of_its_kept_value():
         assert count.calls == 2
         np.testing.assert_array_equal(value[0], full[0][index])
         assert value[1] is full[1]
+        many = np.arange(199, 99, -1)  # rows of rows (each at least ROWS_MIN long)
+        nested = _memo.rows(_memo.rows(w, many), np.array([3, 1]))
+        np.testing.assert_array_equal(_memo.once(owner, "x", nested, pair)[0],
+                                      full[0][many[[3, 1]]])
+        assert count.calls == 2
         small = w[:_memo.ROWS_MIN - 1]
         _memo.once(owner, "x", small, pair)
         _memo.once(owner, "x", _memo.rows(small, [0, 1]), pair)
