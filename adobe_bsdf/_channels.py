@@ -130,36 +130,37 @@ def pick(mask, a, b) -> np.ndarray:
     that is set lies in ``BITWISE_SHARES`` (an unpredictable branch), the bits are selected
     without branching, b ^ ((a ^ b) & -mask), up to four times faster; otherwise NumPy's
     own (faster where the mask is nearly uniform)."""
-    if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.size >= SMALL):
+    bits_a, bits_b = _bits(a, np.shape(mask)), _bits(b, np.shape(mask))
+    ones = (None if bits_a is None or bits_b is None or (bits_a.ndim == 0 and bits_b.ndim == 0)
+            else _all_ones(mask))
+    if ones is None:
         return np.where(mask, a, b)
-    bits_a, bits_b = _bits(a, mask.shape), _bits(b, mask.shape)
-    if bits_a is None or bits_b is None or (bits_a.ndim == 0 and bits_b.ndim == 0):
-        return np.where(mask, a, b)
-    count = np.count_nonzero(mask)
-    if not BITWISE_SHARES[0] * mask.size < count < BITWISE_SHARES[1] * mask.size:
-        return np.where(mask, a, b)
-    k = mask.view(np.uint8).astype(np.int64)
-    np.negative(k, out=k)  # all ones where set
-    out = np.bitwise_xor(bits_a, bits_b)
-    out &= k
-    out ^= bits_b
-    return out.view(np.float64)
+    ones &= bits_a ^ bits_b
+    ones ^= bits_b
+    return ones.view(np.float64)
 
 
 def picks(mask, a, b) -> tuple[np.ndarray, np.ndarray]:
     """``(pick(mask, a, b), pick(mask, b, a))`` for float64 arrays ``a``, ``b`` of the shape of
     ``mask``, sharing one select: with d = (a ^ b) & -mask, b ^ d and a ^ d."""
-    if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.size >= SMALL
-            and all(isinstance(x, np.ndarray) and x.dtype == np.float64
-                    and x.shape == mask.shape for x in (a, b))
-            and BITWISE_SHARES[0] * mask.size < np.count_nonzero(mask)
-            < BITWISE_SHARES[1] * mask.size):
+    d = (_all_ones(mask) if all(isinstance(x, np.ndarray) and x.dtype == np.float64
+                                and x.shape == np.shape(mask) for x in (a, b)) else None)
+    if d is None:
         return np.where(mask, a, b), np.where(mask, b, a)
     bits_a, bits_b = a.view(np.int64), b.view(np.int64)
-    d = mask.view(np.uint8).astype(np.int64)
-    np.negative(d, out=d)
     d &= bits_a ^ bits_b
     return (d ^ bits_b).view(np.float64), np.bitwise_xor(d, bits_a, out=d).view(np.float64)
+
+
+def _all_ones(mask):
+    """-mask as int64 (all bits set where ``mask``), where a bitwise select pays: a large
+    boolean array with its set share in ``BITWISE_SHARES``; else None."""
+    if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.size >= SMALL
+            and BITWISE_SHARES[0] * mask.size < np.count_nonzero(mask)
+            < BITWISE_SHARES[1] * mask.size):
+        return None
+    ones = mask.view(np.uint8).astype(np.int64)
+    return np.negative(ones, out=ones)
 
 
 def _bits(x, shape):

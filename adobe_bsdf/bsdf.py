@@ -514,10 +514,8 @@ def finished_sample(wi, weight, pdf, flags, fresh: bool = False) -> BSDFSample:
     if (fresh and ok.ndim == 1 and weight is not None and wi.shape == weight.shape
             == ok.shape + (3,) and pdf.shape == flags.shape == ok.shape):
         failed = np.flatnonzero(~ok)
-        if len(failed):
-            for rows, zero in ((wi, 0.0), (weight, 0.0), (pdf, 0.0), (flags, int(Flags.NONE))):
-                put_rows(rows, failed, np.full((len(failed),) + rows.shape[1:], zero,
-                                               dtype=rows.dtype))
+        for rows, zero in ((wi, 0.0), (weight, 0.0), (pdf, 0.0), (flags, int(Flags.NONE))):
+            rows[failed] = zero
         return BSDFSample(wi, weight, pdf, flags)
     return BSDFSample(
         wi=masked(ok, wi),
