@@ -332,7 +332,8 @@ class DielectricReflection(MicrofacetReflection):
         if self._param_shape() != ():
             return quadrature.sampled_albedo(self, wo)
         v, cos_phi, _, _ = anisotropic_coordinates(d, wo, blend=True)
-        return grey(pick(wo[..., 2] > 0.0, self._top_table()(v, cos_phi)[..., 0], 0.0))
+        E = self._top_table()(v, cos_phi)[..., 0] * _top_scale(self, np.maximum(wo[..., 2], 0.0))
+        return grey(pick(wo[..., 2] > 0.0, E, 0.0))
 
     def _top_table(self) -> Table:
         """The (v, |cos phi|) table of ``quadrature.sampled_albedo`` of this anisotropic
@@ -390,8 +391,8 @@ _MU_LIMIT = 1e-9
 
 def _top_table(lobe: DielectricReflection) -> Table:
     """``quadrature.sampled_albedo`` of ``lobe`` (scalar parameters, anisotropic) at the
-    ``TOP_ALBEDO_AXES`` nodes, as a table (no node error: 0)."""
-    spec = TableSpec(f"top albedo of {lobe!r}", TOP_ALBEDO_AXES, ("E_R",), compute=None,
+    ``TOP_ALBEDO_AXES`` nodes over ``_top_scale``, as a table (no node error: 0)."""
+    spec = TableSpec(f"top albedo of {lobe!r}", TOP_ALBEDO_AXES, ("E_R / scale",), compute=None,
                      quadrature="quadrature.sampled_albedo, 32 x 32 Gauss-Legendre")
     v, cos_phi = spec.grid()
     d = lobe.distribution
@@ -404,4 +405,16 @@ def _top_table(lobe: DielectricReflection) -> Table:
     along, across = sin_theta * cos_phi, sin_theta * np.sqrt(1.0 - cos_phi * cos_phi)
     x, y = (along, across) if d.alpha_x >= d.alpha_y else (across, along)
     E = quadrature.sampled_albedo(lobe, np.stack([x, y, mu], -1))[:, :1]
-    return Table(spec, E.reshape(spec.shape), np.zeros(spec.shape))
+    scale = np.broadcast_to(_top_scale(lobe, mu), mu.shape)[:, None]
+    ratio = np.divide(E, scale, out=np.zeros_like(E), where=scale > 0.0)
+    return Table(spec, ratio.reshape(spec.shape), np.zeros(spec.shape))
+
+
+def _top_scale(lobe: DielectricReflection, mu):
+    """What ``_top_table`` divides E by: for eta >= 1 the smooth interface's F(mu) (0 only at
+    eta = 1, where E = 0 too), smooth in mu, so that E / F is flat where the lobe is nearly
+    smooth (E = F above mu ~ alpha) while E itself falls from 1 at grazing faster than the
+    nodes in v resolve (an energy gain of a layer underneath of up to ~0.02 at mu ~ 1e-3);
+    for eta < 1, 1: there F has the kink of total internal reflection, which the nodes do
+    not resolve either way."""
+    return lobe.fresnel(mu) if lobe.eta >= 1.0 else 1.0
