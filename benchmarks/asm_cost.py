@@ -9,7 +9,7 @@ each, the lobes built (``AdobeStandardMaterial.lobes``) and the median of ``runs
 of ``eval`` and ``sample`` on the same ``pairs`` random pairs, all measured in this one run,
 with the ratio to the plain diffuse material. An anisotropic coat is a separate row: its
 albedo (under which the base is scaled) is a 32 x 32 Gauss rule tabulated once per coat
-(``lobes.reflection.TOP_ALBEDO_AXES``), built by the warm-up call.
+(``lobes.top_albedo.TopAlbedoGrid``), built by the warm-up call.
 """
 
 from __future__ import annotations

@@ -3,8 +3,6 @@ a conductor's, and a dielectric interface's reflection alone."""
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 
 from adobe_bsdf import quadrature
@@ -12,7 +10,6 @@ from adobe_bsdf._channels import pick, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.fresnel import ExactDielectric, Fresnel, FresnelFunction
 from adobe_bsdf.lobes.energy_lookup import (
-    anisotropic_coordinates,
     checked_ratio,
     conductor_energy,
     exact_anisotropic,
@@ -23,9 +20,8 @@ from adobe_bsdf.lobes.energy_lookup import (
     slice_energy,
     table_alpha,
 )
+from adobe_bsdf.lobes.top_albedo import TopAlbedoGrid
 from adobe_bsdf.microfacet import distribution, saturated
-from adobe_bsdf.tables.anisotropic_energy import projected_alpha, unblended
-from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
 __all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection", "ReferencedReflection"]
 
@@ -322,27 +318,15 @@ class DielectricReflection(MicrofacetReflection):
         """The table where isotropic; where anisotropic, the table at sqrt(alpha_x alpha_y)
         misses the true albedo by up to ~0.04 at grazing angles (either way), so a layer
         under it would gain energy: there E is ``quadrature.sampled_albedo`` (32 x 32
-        visible normals per direction), interpolated from ``TOP_ALBEDO_AXES`` nodes in
-        (v, |cos phi|) of ``anisotropic_coordinates`` computed once per lobe
-        (``_top_table``; textured parameters: the rule at every distinct ``wo``), or, built
-        exact, the slice's."""
+        visible normals per direction), interpolated from a grid over wo built once per lobe
+        (``top_albedo.TopAlbedoGrid``; textured parameters: the rule at every distinct
+        ``wo``), or, built exact, the slice's."""
         d = self.distribution
         if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.exact:
             return super()._top_albedo(wo)
         if self._param_shape() != ():
             return quadrature.sampled_albedo(self, wo)
-        v, cos_phi, _, _ = anisotropic_coordinates(d, wo, blend=True)
-        E = self._top_table()(v, cos_phi)[..., 0] * _top_scale(self, np.maximum(wo[..., 2], 0.0))
-        return grey(pick(wo[..., 2] > 0.0, E, 0.0))
-
-    def _top_table(self) -> Table:
-        """The (v, |cos phi|) table of ``quadrature.sampled_albedo`` of this anisotropic
-        lobe with scalar parameters, built on first use (~0.4 s) and kept."""
-        with _TOP_LOCK:
-            table = self.__dict__.get("_top")
-            if table is None:
-                table = self.__dict__["_top"] = _top_table(self)
-        return table
+        return grey(pick(wo[..., 2] > 0.0, TopAlbedoGrid.of(self)(self, wo), 0.0))
 
     def _albedo_table(self, wo, with_error=True):
         alpha, ratio = table_alpha(self.distribution), checked_ratio(self.eta)
@@ -377,44 +361,3 @@ class DielectricReflection(MicrofacetReflection):
             E = pick(smooth, self._delta_albedo(wo), E)
             error = None if error is None else pick(smooth, 0.0, error)
         return E, error
-
-
-#: the nodes of an anisotropic ``DielectricReflection``'s albedo as a layer's top: the
-#: blended coordinate v and |cos phi| of ``energy_lookup.anisotropic_coordinates``, as the
-#: Fresnel moments' table (``tables.catalog``), log-spaced towards the smooth axis
-TOP_ALBEDO_AXES = (Axis("v", 0.0, 1.0, 48, "log-linear", "cubic"),
-                   Axis("cos_phi", 0.0, 1.0, 32, "log-linear", "cubic", log_scale=0.3))
-_TOP_LOCK = threading.Lock()
-#: the cosine standing for the limit mu -> 0+ at the nodes v = 0
-_MU_LIMIT = 1e-9
-
-
-def _top_table(lobe: DielectricReflection) -> Table:
-    """``quadrature.sampled_albedo`` of ``lobe`` (scalar parameters, anisotropic) at the
-    ``TOP_ALBEDO_AXES`` nodes over ``_top_scale``, as a table (no node error: 0)."""
-    spec = TableSpec(f"top albedo of {lobe!r}", TOP_ALBEDO_AXES, ("E_R / scale",), compute=None,
-                     quadrature="quadrature.sampled_albedo, 32 x 32 Gauss-Legendre")
-    v, cos_phi = spec.grid()
-    d = lobe.distribution
-    alpha = max(float(d.alpha_x), float(d.alpha_y))
-    ratio = min(float(d.alpha_x), float(d.alpha_y)) / alpha
-    # at v = 0 the limit mu -> 0+ (the lobe reflects nothing at mu = 0 itself, the
-    # lookup's case): the albedo is flat below mu ~ 1e-5 a
-    mu = np.maximum(unblended(v, projected_alpha(cos_phi, alpha, ratio)), _MU_LIMIT)
-    sin_theta = np.sqrt(1.0 - mu * mu)
-    along, across = sin_theta * cos_phi, sin_theta * np.sqrt(1.0 - cos_phi * cos_phi)
-    x, y = (along, across) if d.alpha_x >= d.alpha_y else (across, along)
-    E = quadrature.sampled_albedo(lobe, np.stack([x, y, mu], -1))[:, :1]
-    scale = np.broadcast_to(_top_scale(lobe, mu), mu.shape)[:, None]
-    ratio = np.divide(E, scale, out=np.zeros_like(E), where=scale > 0.0)
-    return Table(spec, ratio.reshape(spec.shape), np.zeros(spec.shape))
-
-
-def _top_scale(lobe: DielectricReflection, mu):
-    """What ``_top_table`` divides E by: for eta >= 1 the smooth interface's F(mu) (0 only at
-    eta = 1, where E = 0 too), smooth in mu, so that E / F is flat where the lobe is nearly
-    smooth (E = F above mu ~ alpha) while E itself falls from 1 at grazing faster than the
-    nodes in v resolve (an energy gain of a layer underneath of up to ~0.02 at mu ~ 1e-3);
-    for eta < 1, 1: there F has the kink of total internal reflection, which the nodes do
-    not resolve either way."""
-    return lobe.fresnel(mu) if lobe.eta >= 1.0 else 1.0
