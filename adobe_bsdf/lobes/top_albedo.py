@@ -76,7 +76,7 @@ class TopAlbedoGrid:
 
     @classmethod
     def of(cls, lobe) -> TopAlbedoGrid:
-        """The lobe's grid, built on first use (~0.4 s, twice that for eta < 1) and kept."""
+        """The lobe's grid, built on first use (a fraction of a second) and kept."""
         with _LOCK:
             grid = lobe.__dict__.get("_top_grid")
             if grid is None:
