@@ -326,7 +326,7 @@ class DielectricReflection(MicrofacetReflection):
             return super()._top_albedo(wo)
         if self._param_shape() != ():
             return quadrature.sampled_albedo(self, wo)
-        return grey(pick(wo[..., 2] > 0.0, TopAlbedoGrid.of(self)(self, wo), 0.0))
+        return grey(pick(wo[..., 2] > 0.0, TopAlbedoGrid.of(self)(wo), 0.0))
 
     def _albedo_table(self, wo, with_error=True):
         alpha, ratio = table_alpha(self.distribution), checked_ratio(self.eta)

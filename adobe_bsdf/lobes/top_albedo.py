@@ -46,7 +46,7 @@ class TopAlbedoGrid:
     """E_top(wo) ``(...)`` of one anisotropic lobe with scalar parameters (``of``)."""
 
     def __init__(self, lobe):
-        d = lobe.distribution
+        d = self.distribution = lobe.distribution
         self.fresnel = lobe.fresnel
         self.alpha_x_larger = bool(d.alpha_x >= d.alpha_y)
         self.alpha = max(float(d.alpha_x), float(d.alpha_y))
@@ -83,9 +83,9 @@ class TopAlbedoGrid:
                 grid = lobe.__dict__["_top_grid"] = cls(lobe)
         return grid
 
-    def __call__(self, lobe, wo) -> np.ndarray:
+    def __call__(self, wo) -> np.ndarray:
         """E_top at ``wo`` above the surface (``(...)``; callers zero it below)."""
-        v, cos_phi, _, _ = anisotropic_coordinates(lobe.distribution, wo, blend=True)
+        v, cos_phi, _, _ = anisotropic_coordinates(self.distribution, wo, blend=True)
         mu = np.maximum(wo[..., 2], 0.0)
         if self.mu_c is not None:
             v = 0.5 * (v + self._step(mu, projected_alpha(cos_phi, self.alpha, self.ratio)))
