@@ -567,6 +567,9 @@ class Layer(Lobe):
               darkening=None):
         self.top, self.base = top, base
         self.coverage = coverage
+        #: coverage 1 (a scalar): the products by c and the sums with 1 - c are skipped
+        #: (x * 1 and x + 0 are x, up to the sign of a zero)
+        self._full = coverage.ndim == 0 and coverage == 1.0
         self.transmittance = transmittance
         self.scaling = scaling
         self.darkening = darkening
@@ -659,10 +662,18 @@ class Layer(Lobe):
         the base then gets nothing, never a negative weight)."""
         return np.minimum(self.top._top_albedo(wo), 1.0)
 
+    def _top_share(self, f):
+        """c f for the top's ``f`` ``(..., 3)``."""
+        return f if self._full else self.coverage[..., None] * f
+
     def _covered(self, wo, t, E_top):
         """c t (1 - E_top) T D(wo) ``(..., 3)``: the covered share of the base's weight at
         ``wo`` before the transmittance towards wi (``t`` the one-way one at wo)."""
-        scaled = self.coverage[..., None] * t * (1.0 - E_top)
+        scaled = 1.0 - E_top
+        if self._one_way is not None:  # (else t = 1)
+            scaled = t * scaled if self._full else (self.coverage[..., None] * t) * scaled
+        elif not self._full:
+            scaled = self.coverage[..., None] * scaled
         if self._T is not None:
             scaled = scaled * self._T
         if self.darkening is not None:
@@ -682,12 +693,12 @@ class Layer(Lobe):
         """W(wo, wi) = (1 - c) + scaled t(wi) ``(..., 3)``, times C (1 - E_top(wi)) in the
         reciprocal form; ``E_top_i`` is E_top(wi) where the caller has it (wi = wo or its
         mirror, whose albedo is wo's)."""
-        base = scaled * self._t(wi)
+        base = scaled if self._one_way is None else scaled * self._t(wi)
         if self.scaling == "reciprocal":
             if E_top_i is None:
                 E_top_i = self._top_energy(wi)
             base = base * self.normalisation[0] * (1.0 - E_top_i)
-        return (1.0 - self.coverage)[..., None] + base
+        return base if self._full else (1.0 - self.coverage)[..., None] + base
 
     def _shares(self, wo, scaled, E_top):
         """(top, base): c E_top and the base's weight at wo times its sampling weight, the
@@ -707,7 +718,7 @@ class Layer(Lobe):
     def _eval(self, wo, wi):
         scaled, _ = self._scaled(wo)
         with np.errstate(over="ignore"):  # saturated values may add up beyond the range
-            return saturated(self.coverage[..., None] * self.top._eval(wo, wi)
+            return saturated(self._top_share(self.top._eval(wo, wi))
                              + self._weight(wo, wi, scaled) * self.base._eval(wo, wi))
 
     def _pdf(self, wo, wi):
@@ -731,7 +742,7 @@ class Layer(Lobe):
         f_top, p_top = self.top._eval_pdf_t(wo, wi, throughput)
         f_base, p_base = self.base._eval_pdf_t(wo, wi, throughput)
         with np.errstate(over="ignore"):  # saturated below
-            f = self.coverage[..., None] * f_top + self._weight(wo, wi, scaled) * f_base
+            f = self._top_share(f_top) + self._weight(wo, wi, scaled) * f_base
         return saturated(f), P[0] * p_top + P[1] * p_base
 
     def _sample(self, wo, u):
@@ -761,7 +772,7 @@ class Layer(Lobe):
         W = self._weight(wo, s.wi, take_rows(scaled, index))
         (f_top, p_top), (f_base, p_base) = parts
         with np.errstate(over="ignore"):  # saturated below
-            f = saturated(self.coverage[..., None] * f_top + W * f_base)
+            f = saturated(self._top_share(f_top) + W * f_base)
         P_top, P_base = (take_rows(Pk, index) for Pk in P)
         pdf = P_top * p_top + P_base * p_base
         with np.errstate(divide="ignore", invalid="ignore"):  # pdf 0: zeroed by the caller

@@ -155,7 +155,8 @@ def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, 
     error None unless ``with_error``. The scalar ``params`` are fixed (``Table.fix``, cached):
     the same interpolant at 4 gathers per lookup and remaining cubic axis (4^d with every
     axis), equal to the full lookup to rounding."""
-    mu = np.minimum(mu, 1.0)  # |w| = 1 within rounding: a cosine may exceed 1 by an ulp
+    if np.max(mu, initial=0.0) > 1.0:  # |w| = 1 within rounding: a cosine may exceed 1
+        mu = np.minimum(mu, 1.0)
     fixed = {k: float(v) for k, v in params.items() if np.ndim(v) == 0}
     if fixed:
         table = _fixed(name, channel, **fixed)

@@ -161,7 +161,8 @@ class MicrofacetReflection(SupportLobe):
 
     def _drawn(self, wo, u, weigh: bool):
         """The sample; without ``weigh`` (no element smooth) its weight is 0
-        (``_sample_directions``)."""
+        (``_sample_directions``). The pdf and weight of a failed element (``ok`` false) are
+        whatever the arithmetic gives there: ``finished_sample`` zeroes them by its flags."""
         d = self.distribution
         ox, oy, oz = wo[..., 0], wo[..., 1], wo[..., 2]
         mx, my, mz, s_o = d.visible_and_projected(ox, oy, oz, u[..., 1], u[..., 2])
@@ -175,16 +176,21 @@ class MicrofacetReflection(SupportLobe):
         weight = None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             D = d.D_of_sum(mx, my, mz, 1.0)
-            pdf = self._p(wo, ok, D, s_o)
+            pdf = self._p(wo, None, D, s_o)
             if any_smooth:
                 pdf = pick(smooth, 1.0, pdf)
             if weigh:
                 s_i = d.projected(wi[..., 0], wi[..., 1], iz)
-                g = pick(smooth | ~ok if any_smooth else ~ok, 1.0,
-                         d.G2_over_G1_of(oz, s_o, iz, s_i))
-        if weigh:
-            F = self._F2(cos_om * cos_om)
-            weight = np.repeat(g[..., None], 3, axis=-1) if F is None else F * g[..., None]
+                g = d.G2_over_G1_of(oz, s_o, iz, s_i)
+                if any_smooth:
+                    g = pick(smooth, 1.0, g)
+                F = self._F2(cos_om * cos_om)
+                if F is None:
+                    weight = np.repeat(g[..., None], 3, axis=-1)
+                elif F.flags.writeable and F.shape == g.shape + (3,):
+                    weight = weighted(F, g, out=F)
+                else:
+                    weight = F * g[..., None]
         flags = (pick(smooth, int(Flags.REFLECTION | Flags.DELTA),
                       int(Flags.REFLECTION | Flags.GLOSSY)) if any_smooth
                  else int(Flags.REFLECTION | Flags.GLOSSY))

@@ -111,7 +111,8 @@ class Axis:
         if self.parameterisation != "log-linear":
             return PARAMETERISATIONS[self.parameterisation]
         lo, c = self.lo, self.log_scale
-        return (lambda x: _loglin_to(x - lo, c), lambda p: _loglin_from(p, c) + lo,
+        # (x - 0 is x, bit for bit: the subtraction is skipped where lo = 0)
+        return (lambda x: _loglin_to(x - lo if lo else x, c), lambda p: _loglin_from(p, c) + lo,
                 lambda p: _loglin_dfrom(p, c))
 
     def nodes(self) -> np.ndarray:
@@ -142,7 +143,13 @@ class Axis:
         to = self._maps()[0]
         p0, p1 = to(self.lo), to(self.hi)
         t = (to(x) - p0) / (p1 - p0) * (self.n - 1)
-        i = np.clip(np.floor(t), 0, self.n - 2).astype(np.intp)
+        if np.ndim(t) == 0:
+            i = np.intp(min(max(np.floor(t), 0), self.n - 2))
+            return i, t - i
+        # t > -1 (x >= lo, the map increasing: a negative t is rounding only), so truncation
+        # is floor clipped to 0: the same cell as np.clip(np.floor(t), 0, n - 2)
+        i = t.astype(np.intp)
+        np.minimum(i, self.n - 2, out=i)
         return i, t - i
 
     def stencil(self, x, table: str | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -381,7 +388,8 @@ class Table:
         strides, c = self._cells()
         cell = None
         for (i, _), stride in zip(located, strides, strict=True):
-            cell = i * stride if cell is None else cell + i * stride
+            part = i if stride == 1 else i * stride
+            cell = part if cell is None else cell + part
         t = [x for _, x in located]
 
         def horner(coefficients, x):
