@@ -635,7 +635,9 @@ class Layer(Lobe):
 
     # -- the weights ------------------------------------------------------------------------
     def _t(self, w):
-        return 1.0 if self._one_way is None else self._one_way(w)
+        """The one-way transmittance t(w) (1 without one), once per call for this ``w``: the
+        base's weight and the probabilities both take t(wo)."""
+        return 1.0 if self._one_way is None else _memo.once(self, "t", w, self._one_way)
 
     def _darkening_constants(self):
         """(eta_c, internal_reflectance(eta_c), E_b, T2) of the darkening: E_b the given

@@ -18,6 +18,9 @@ The ratios of the acceptance: eval / Σ lobes' eval, sample / Σ lobes' eval, sa
 and sample / Σ lobes' sample, what a material's sample costs against its lobes' own samples
 (each lobe sampled on every pair, where the material samples each on its share of them but
 evaluates the others at the sampled directions).
+At the sampled directions (``sampled_directions``): the material's ``eval`` and every
+lobe's ``eval_pdf`` there, and the floor sum_i min(sample_i, eval_pdf_i there): what the
+lobes' own work costs a sample, whatever composes them (``sampled_summary``).
 ``before`` repeats the measurement on ``BASELINE`` (the library before the material-cost
 work) in a subprocess of the same run (``benchmarks.baseline.run_script``), on the first
 ``BEFORE_N`` of the pairs. ``unretained`` repeats the materials' eval and sample (one run)
@@ -29,6 +32,8 @@ further call of eval and of sample (``resource.getrusage``; 0 where unavailable)
 from __future__ import annotations
 
 import time
+
+import numpy as np
 
 from benchmarks import throughput as tp
 
@@ -83,10 +88,29 @@ def _faults(lobe, call, n, wo, wi, u) -> int:
     return resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before
 
 
-def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True) -> dict:
+def sampled_directions(material, wo, wi, u):
+    """The directions ``material.sample(wo, u)`` returns (``wi`` where a sample fails): the
+    pairs on which a material's sample evaluates its lobes."""
+    s = material.sample(wo, u)
+    return np.where((s.pdf > 0.0)[:, None], s.wi, wi)
+
+
+def _at_sampled(material, n, wo, wi, u, runs) -> dict:
+    """Seconds of the material's ``eval`` and of each lobe's ``eval_pdf`` on the pairs
+    (wo, its sampled direction) (``sampled_directions``)."""
+    ws = sampled_directions(material, wo[:n], wi[:n], u[:n])
+    return {"eval": _seconds(material, "eval", n, wo, ws, u, runs),
+            "lobes": {name: _seconds(lobe, "eval_pdf", n, wo, ws, u, runs)
+                      for name, lobe in material.lobes.items()}}
+
+
+def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True,
+            sampled: bool = True) -> dict:
     """``{"n", "runs", "pass_seconds", "rows"}``: per case, the material's ``calls`` (and,
-    with ``lobes``, its lobes' ``eval``) in seconds (or the error), and ``"faults"``: minor
-    page faults of one eval and one sample."""
+    with ``lobes``, its lobes' ``eval`` and ``sample``, and with ``sampled`` too,
+    ``"sampled"``: the material's eval and its lobes' eval_pdf at its sampled directions)
+    in seconds (or the error), and
+    ``"faults"``: minor page faults of one eval and one sample."""
     wo, wi, u = tp.directions(n)
     unit = tp.memory_pass(UNIT_N, runs)[0] / UNIT_N * n
     rows = []
@@ -100,6 +124,8 @@ def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True) -> dic
                                 for name, lobe in material.lobes.items()}
                 row["lobe_samples"] = {name: _seconds(lobe, "sample", n, wo, wi, u, runs)
                                        for name, lobe in material.lobes.items()}
+                if sampled:
+                    row["sampled"] = _at_sampled(material, n, wo, wi, u, runs)
             for call in calls:
                 row[call] = _seconds(material, call, n, wo, wi, u, runs)
             row["faults"] = {c: _faults(material, c, n, wo, wi, u) for c in ("eval", "sample")}
@@ -152,7 +178,8 @@ def run(smoke: bool = False, log=None) -> dict:
     except Exception as exc:  # reported in the page
         unretained = {"error": f"{type(exc).__name__}: {exc}"}
     try:
-        before = baseline.run_script(_SCRIPT.format(n=min(n, BEFORE_N), runs=runs, options={}),
+        before = baseline.run_script(_SCRIPT.format(n=min(n, BEFORE_N), runs=runs,
+                                                    options={"sampled": False}),
                                      BASELINE, ("adobe_bsdf", "tables"))
     except Exception as exc:  # git or the old library unavailable: said in the page
         before = {"error": f"{type(exc).__name__}: {exc}"}
@@ -212,6 +239,51 @@ def summary(section: dict) -> list:
             calls["lobe samples"] = _passes(section, sum(row["lobe_samples"].values()))
             ratios["sample / lobe samples"] = calls["sample"] / calls["lobe samples"]
         out.append((row["case"], len(row["lobes"]), lobes, calls, ratios))
+    return out
+
+
+def sampled_summary(section: dict) -> list:
+    """Per case measured at its sampled directions: ``(label, {name: passes})`` with the
+    material's eval on the uniform pairs ("eval") and at the sampled directions ("eval
+    there"), its sample, and "floor": sum over its lobes of min(sample, eval_pdf there)."""
+    out = []
+    for row in section["rows"]:
+        there = row.get("sampled")
+        if "error" in row or not there:
+            continue
+        floor = sum(min(row["lobe_samples"][k], there["lobes"][k]) for k in there["lobes"])
+        out.append((row["case"], {"eval": _passes(section, row["eval"]),
+                                  "eval there": _passes(section, there["eval"]),
+                                  "sample": _passes(section, row["sample"]),
+                                  "floor": _passes(section, floor)}))
+    return out
+
+
+def _sampled_table(section: dict) -> list:
+    rows = sampled_summary(section)
+    if not rows:
+        return []
+    out = ["", "### Where a sample's time goes", "",
+           "A sample returns, for every pair, a direction in the material's support with the "
+           "weight and pdf of the whole mixture there; `eval` on the uniform pairs above "
+           "skips the pairs outside the support (for a reflection, the half below the "
+           "surface). *Eval there*: the material's `eval` at (wo, the direction its `sample` "
+           "returned). *Floor*: the sum over the active lobes of the smaller of the lobe's "
+           "own `sample` (on every pair) and its `eval_pdf` at the sampled directions: every "
+           "pair needs, of each lobe, either its sample or its value and pdf there, so no "
+           "composition of these lobes samples for less. Same pairs, runs and unit as "
+           "above.", "",
+           "| case | eval | eval there | sample | sample / eval | sample / eval there | "
+           "floor | floor / eval | sample / floor |", "|---|---|---|---|---|---|---|---|---|"]
+    for label, p in rows:
+        out.append(f"| {label} | {p['eval']:.0f} | {p['eval there']:.0f} | {p['sample']:.0f} "
+                   f"| {p['sample'] / p['eval']:.2f} | {p['sample'] / p['eval there']:.2f} | "
+                   f"{p['floor']:.0f} | {p['floor'] / p['eval']:.2f} | "
+                   f"{p['sample'] / p['floor']:.2f} |")
+    above = [label for label, p in rows if p["floor"] > BOUNDS["sample / eval"] * p["eval"]]
+    out += ["", f"Floor above {BOUNDS['sample / eval']:g}× the material's eval (where the "
+            "bound sample / eval cannot be met by any composition of these lobes): "
+            + (", ".join(above) if above else "none") + "."]
     return out
 
 
@@ -299,6 +371,7 @@ def markdown(section: dict, figure_dir, smoke: bool, link_prefix: str = "figures
     out += ["", "Bounds: " + "; ".join(
         f"{r} ≤ {b}: met by {sum(x[4][r] <= b for x in rows)} of {len(rows)} cases"
         for r, b in BOUNDS.items()) + "."]
+    out += _sampled_table(section)
     out += _fault_table(section)
     by = {r[0]: r for r in rows}
     iso, aniso = (by.get(f"ASM fully loaded, {c} coat") for c in ("isotropic", "anisotropic"))
