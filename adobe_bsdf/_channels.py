@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["tinted", "scaled", "weighted", "divided", "masked", "selected", "pick", "picks",
-           "take_rows", "put_rows", "SMALL"]
+           "take_rows", "put_rows", "zero_rows", "SMALL"]
 
 #: below this many pairs the plain broadcast is as fast (three calls cost ~1 us more)
 SMALL = 2048
@@ -176,6 +176,16 @@ def _bits(x, shape):
 def take_rows(a, index) -> np.ndarray:
     """``a[index]`` for ``a`` (n, ...) and an integer ``index`` (m,)."""
     return np.asarray(a).take(index, axis=0)
+
+
+def zero_rows(out, index) -> None:
+    """``out[index] = 0`` for ``out`` (n, ...) and an integer ``index`` (m,) (a (n, 3)
+    float64 array by whole rows)."""
+    rows = _row_view(out)
+    if rows is not None and out.ndim == 2:
+        np.put(rows, index, _ZERO_ROW)
+    else:
+        out[index] = 0
 
 
 def put_rows(out, index, values) -> None:

@@ -25,7 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from adobe_bsdf import _memo, _params, config, quadrature
-from adobe_bsdf._channels import masked, pick, put_rows
+from adobe_bsdf._channels import masked, pick, put_rows, zero_rows
 
 __all__ = ["Flags", "BSDFSample", "Hook", "HOOKS", "Lobe", "SupportLobe", "ALBEDO_METHODS",
            "luminance", "on_support", "finished_sample"]
@@ -514,8 +514,8 @@ def finished_sample(wi, weight, pdf, flags, fresh: bool = False) -> BSDFSample:
     if (fresh and ok.ndim == 1 and weight is not None and wi.shape == weight.shape
             == ok.shape + (3,) and pdf.shape == flags.shape == ok.shape):
         failed = np.flatnonzero(~ok)
-        for rows, zero in ((wi, 0.0), (weight, 0.0), (pdf, 0.0), (flags, int(Flags.NONE))):
-            rows[failed] = zero
+        for rows in (wi, weight, pdf, flags):  # (Flags.NONE is 0)
+            zero_rows(rows, failed)
         return BSDFSample(wi, weight, pdf, flags)
     return BSDFSample(
         wi=masked(ok, wi),

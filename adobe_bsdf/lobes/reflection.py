@@ -175,7 +175,7 @@ class MicrofacetReflection(SupportLobe):
         any_smooth = bool(np.any(smooth))  # (else the selections by it are the identity)
         weight = None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            D = d.D_of_sum(mx, my, mz, 1.0)
+            D = d.D_of_sum(mx, my, mz, 1.0, upper=True)  # (mz > 0 wherever ok)
             pdf = self._p(wo, None, D, s_o)
             if any_smooth:
                 pdf = pick(smooth, 1.0, pdf)
