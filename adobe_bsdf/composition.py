@@ -623,11 +623,13 @@ class Layer(Lobe):
 
     def _param_shape(self):
         shapes = [self.top._param_shape(), self.base._param_shape()]
-        if any(s is None for s in shapes) or callable(self.transmittance):
+        if callable(self.transmittance):  # its own shape where it declares one
+            shapes.append(getattr(self.transmittance, "param_shape", None))
+        elif self.transmittance is not None:
+            shapes.append(self.transmittance.shape[:-1])
+        if any(s is None for s in shapes):
             return None
         shapes.append(self.coverage.shape)
-        if self.transmittance is not None:
-            shapes.append(self.transmittance.shape[:-1])
         if self.darkening is not None:
             d = self.darkening
             shapes += [d.delta.shape, d.base_roughness.shape, self._dark[2].shape[:-1]]

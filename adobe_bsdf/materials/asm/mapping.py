@@ -117,6 +117,9 @@ class CoatTransmittance(_params.Validated):
 
     def _init(self, color, eta, view_dependent=True):
         self.color, self.eta, self.view_dependent = color, eta, bool(view_dependent)
+        #: batch shape of the parameters (beyond the colour axis): a ``Layer`` over it
+        #: samples group by group where it is ()
+        self.param_shape = np.broadcast_shapes(np.shape(color)[:-1], np.shape(eta))
 
     def __repr__(self) -> str:
         return f"CoatTransmittance(coat_color={self.color}, coat_ior={self.eta})"
