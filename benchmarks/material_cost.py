@@ -7,9 +7,11 @@ the OpenPBR preset "everything", and a fully loaded ASM with an isotropic and wi
 anisotropic coat (the pair that prices the anisotropic coat's albedo).
 
 For each case, on the same ``n`` random pairs (``throughput.directions``, seed 0; 2·10^5,
-smoke 2000), all threads, the median of ``runs`` timings (3, smoke 2) of the material's
-``eval``, ``pdf``, ``eval_pdf`` and ``sample``, and of ``eval`` and ``sample`` of every lobe
-in ``material.lobes`` alone (the active lobes: zero-weight lobes are never built). Times are
+smoke 2000), all threads, the median of ``runs`` timings (5, smoke 2; the library before:
+3) of the material's ``eval``, ``pdf``, ``eval_pdf`` and ``sample``, and of ``eval`` and
+``sample`` of every lobe in ``material.lobes`` alone (the active lobes: zero-weight lobes are
+never built), taken in rounds of one run of each (``_interleaved``), so that a slow spell
+of the machine slows all of a case's calls alike and their ratios hold. Times are
 given in *memory passes*: the time of one ``np.add(a, b, out=c)`` over float64 ``(n, 3)``
 arrays, taken per element at 10^6 pairs (where the arrays leave the caches; at 2·10^5 the
 same add runs ~25 % faster per element) times n: the unit of the headline section.
@@ -31,6 +33,7 @@ further call of eval and of sample (``resource.getrusage``; 0 where unavailable)
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -45,7 +48,9 @@ CALLS = ("eval", "pdf", "eval_pdf", "sample")
 #: pairs per call (smoke: 2000) and runs per median; the library before is timed on the
 #: first BEFORE_N pairs (its anisotropic top albedo was a quadrature per direction: minutes
 #: per call at N)
-N, SMOKE_N, RUNS, BEFORE_N = 200_000, 2_000, 3, 20_000
+N, SMOKE_N, RUNS, BEFORE_N = 200_000, 2_000, 5, 20_000
+#: runs per median of the library before (its calls are the slow ones)
+BEFORE_RUNS = 3
 #: the unit's reference size
 UNIT_N = 10**6
 
@@ -72,11 +77,6 @@ def material_cases() -> list:
     return out
 
 
-def _seconds(lobe, call, n, wo, wi, u, runs) -> float:
-    tp._call(lobe, call, wo[:100], wi[:100], u[:100])  # warm-up (tables, caches)
-    return tp._median(lambda: tp.time_call(lobe, call, wo[:n], wi[:n], u[:n]), runs)[0]
-
-
 def _faults(lobe, call, n, wo, wi, u) -> int:
     """Minor page faults of one ``call`` on the first n pairs (0 without ``resource``)."""
     try:
@@ -95,13 +95,44 @@ def sampled_directions(material, wo, wi, u):
     return np.where((s.pdf > 0.0)[:, None], s.wi, wi)
 
 
-def _at_sampled(material, n, wo, wi, u, runs) -> dict:
-    """Seconds of the material's ``eval`` and of each lobe's ``eval_pdf`` on the pairs
-    (wo, its sampled direction) (``sampled_directions``)."""
-    ws = sampled_directions(material, wo[:n], wi[:n], u[:n])
-    return {"eval": _seconds(material, "eval", n, wo, ws, u, runs),
-            "lobes": {name: _seconds(lobe, "eval_pdf", n, wo, ws, u, runs)
-                      for name, lobe in material.lobes.items()}}
+def _interleaved(timers, n, wo, u, runs) -> list:
+    """Median seconds of each timer ``(lobe, call, wi)`` on the first n pairs over ``runs``
+    rounds of one run of every timer: a slow spell of the machine falls on all of a case's
+    calls alike rather than on one of them, which keeps their ratios. Each timer is first
+    warmed up and called once to calibrate: a call shorter than ``MIN_RUN_SECONDS`` repeats
+    within a run, which takes the mean."""
+    def once(lobe, call, wi):
+        return tp.time_call(lobe, call, wo[:n], wi[:n], u[:n])
+
+    repeats = []
+    for lobe, call, wi in timers:
+        tp._call(lobe, call, wo[:100], wi[:100], u[:100])  # warm-up (tables, caches)
+        first = once(lobe, call, wi)
+        repeats.append(1 if first >= tp.MIN_RUN_SECONDS
+                       else min(1000, math.ceil(tp.MIN_RUN_SECONDS / max(first, 1e-9))))
+    times = [[] for _ in timers]
+    for _ in range(runs):
+        for k, ((lobe, call, wi), r) in enumerate(zip(timers, repeats, strict=True)):
+            times[k].append(sum(once(lobe, call, wi) for _ in range(r)) / r)
+    return [float(np.median(t)) for t in times]
+
+
+def _timers(material, calls, n, wo, wi, u, lobes: bool, sampled: bool) -> dict:
+    """``{path: (lobe, call, wi)}``: what ``measure`` times for one case, keyed by where the
+    seconds go in its row."""
+    timers = {}
+    if lobes:
+        for name, lobe in material.lobes.items():
+            timers["lobes", name] = (lobe, "eval", wi)
+            timers["lobe_samples", name] = (lobe, "sample", wi)
+        if sampled:
+            ws = sampled_directions(material, wo[:n], wi[:n], u[:n])
+            timers["sampled", "eval"] = (material, "eval", ws)
+            for name, lobe in material.lobes.items():
+                timers["sampled", "lobes", name] = (lobe, "eval_pdf", ws)
+    for call in calls:
+        timers[(call,)] = (material, call, wi)
+    return timers
 
 
 def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True,
@@ -109,8 +140,8 @@ def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True,
     """``{"n", "runs", "pass_seconds", "rows"}``: per case, the material's ``calls`` (and,
     with ``lobes``, its lobes' ``eval`` and ``sample``, and with ``sampled`` too,
     ``"sampled"``: the material's eval and its lobes' eval_pdf at its sampled directions)
-    in seconds (or the error), and
-    ``"faults"``: minor page faults of one eval and one sample."""
+    in seconds, timed interleaved (``_interleaved``), or the error; and ``"faults"``: minor
+    page faults of one eval and one sample."""
     wo, wi, u = tp.directions(n)
     unit = tp.memory_pass(UNIT_N, runs)[0] / UNIT_N * n
     rows = []
@@ -119,15 +150,13 @@ def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True,
         row = {"case": label}
         try:
             material = make()
-            if lobes:
-                row["lobes"] = {name: _seconds(lobe, "eval", n, wo, wi, u, runs)
-                                for name, lobe in material.lobes.items()}
-                row["lobe_samples"] = {name: _seconds(lobe, "sample", n, wo, wi, u, runs)
-                                       for name, lobe in material.lobes.items()}
-                if sampled:
-                    row["sampled"] = _at_sampled(material, n, wo, wi, u, runs)
-            for call in calls:
-                row[call] = _seconds(material, call, n, wo, wi, u, runs)
+            timers = _timers(material, calls, n, wo, wi, u, lobes, sampled)
+            for path, seconds in zip(timers, _interleaved(list(timers.values()), n, wo, u,
+                                                          runs), strict=True):
+                place = row
+                for key in path[:-1]:
+                    place = place.setdefault(key, {})
+                place[path[-1]] = seconds
             row["faults"] = {c: _faults(material, c, n, wo, wi, u) for c in ("eval", "sample")}
         except Exception as exc:  # reported, not fatal
             row["error"] = f"{type(exc).__name__}: {exc}"
@@ -178,7 +207,8 @@ def run(smoke: bool = False, log=None) -> dict:
     except Exception as exc:  # reported in the page
         unretained = {"error": f"{type(exc).__name__}: {exc}"}
     try:
-        before = baseline.run_script(_SCRIPT.format(n=min(n, BEFORE_N), runs=runs,
+        before = baseline.run_script(_SCRIPT.format(n=min(n, BEFORE_N),
+                                                    runs=min(runs, BEFORE_RUNS),
                                                     options={"sampled": False}),
                                      BASELINE, ("adobe_bsdf", "tables"))
     except Exception as exc:  # git or the old library unavailable: said in the page
