@@ -33,7 +33,6 @@ further call of eval and of sample (``resource.getrusage``; 0 where unavailable)
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -107,9 +106,7 @@ def _interleaved(timers, n, wo, u, runs) -> list:
     repeats = []
     for lobe, call, wi in timers:
         tp._call(lobe, call, wo[:100], wi[:100], u[:100])  # warm-up (tables, caches)
-        first = once(lobe, call, wi)
-        repeats.append(1 if first >= tp.MIN_RUN_SECONDS
-                       else min(1000, math.ceil(tp.MIN_RUN_SECONDS / max(first, 1e-9))))
+        repeats.append(tp.repeats_for(once(lobe, call, wi)))
     times = [[] for _ in timers]
     for _ in range(runs):
         for k, ((lobe, call, wi), r) in enumerate(zip(timers, repeats, strict=True)):

@@ -41,7 +41,8 @@ except ImportError:  # older commits: no execution options
     config = None
 
 __all__ = ["SIZES", "SMOKE_SIZES", "RUNS", "SMOKE_RUNS", "SLICE", "CALLS", "EXTRA_SECONDS",
-           "GOLD_ETA", "GOLD_K", "directions", "memory_pass", "time_call", "thread_variants",
+           "GOLD_ETA", "GOLD_K", "directions", "memory_pass", "repeats_for", "time_call",
+           "thread_variants",
            "headline_lobes", "headline", "run"]
 
 SIZES = (10**4, 10**6, 10**7)
@@ -69,14 +70,22 @@ def directions(n: int, seed: int = 0):
     return wo, wi, rng.random((n, 3))
 
 
+def repeats_for(first: float) -> int:
+    """How many calls make one run of a call that took ``first`` seconds: 1, or enough to
+    last ``MIN_RUN_SECONDS`` (at most 1000), whose mean is the run's time."""
+    if first >= MIN_RUN_SECONDS:
+        return 1
+    return min(1000, math.ceil(MIN_RUN_SECONDS / max(first, 1e-9)))
+
+
 def _median(run, runs: int) -> tuple[float, list]:
     """Median and all of ``runs`` timings; ``run()`` returns the seconds of one call. A first
     call shorter than ``MIN_RUN_SECONDS`` only calibrates the repeats; a longer one counts."""
     first = run()
-    if first >= MIN_RUN_SECONDS:
+    repeats = repeats_for(first)
+    if repeats == 1:
         times = [first] + [run() for _ in range(runs - 1)]
     else:
-        repeats = min(1000, math.ceil(MIN_RUN_SECONDS / max(first, 1e-9)))
         times = [sum(run() for _ in range(repeats)) / repeats for _ in range(runs)]
     return float(np.median(times)), times
 
