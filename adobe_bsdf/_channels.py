@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["tinted", "scaled", "weighted", "divided", "masked", "selected", "pick", "picks",
-           "take_rows", "put_rows", "zero_rows", "SMALL"]
+__all__ = ["tinted", "scaled", "shifted", "weighted", "divided", "masked", "selected", "pick",
+           "picks", "take_rows", "put_rows", "zero_rows", "SMALL"]
 
 #: below this many pairs the plain broadcast is as fast (three calls cost ~1 us more)
 SMALL = 2048
@@ -50,13 +50,23 @@ def tinted(x, colour) -> np.ndarray:
 def scaled(rgb, colour, out=None) -> np.ndarray:
     """``rgb * colour`` for ``rgb`` (..., 3) (any other last axis broadcasts) and ``colour``
     (3,); ``out`` may be ``rgb``."""
+    return _per_channel(np.multiply, rgb, colour, out)
+
+
+def shifted(rgb, colour, out=None) -> np.ndarray:
+    """``rgb + colour``, as ``scaled``."""
+    return _per_channel(np.add, rgb, colour, out)
+
+
+def _per_channel(op, rgb, colour, out):
+    """``op(rgb, colour)``, channel by channel where fast."""
     rgb, colour = np.asarray(rgb), np.asarray(colour)
     if not (rgb.ndim >= 2 and rgb.shape[-1] == 3 and _fast(rgb[..., 0])
             and colour.shape == (3,)):
-        return np.multiply(rgb, colour, out=out)
+        return op(rgb, colour, out=out)
     out = np.empty(rgb.shape, dtype=np.result_type(rgb, colour)) if out is None else out
     for k in range(3):
-        np.multiply(rgb[..., k], colour[k], out=out[..., k])
+        op(rgb[..., k], colour[k], out=out[..., k])
     return out
 
 

@@ -39,7 +39,7 @@ import functools
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf._channels import pick
+from adobe_bsdf._channels import pick, shifted, tinted, weighted
 
 __all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX",
            "gulbrandsen_to_ior", "ior_to_gulbrandsen",
@@ -460,9 +460,12 @@ def schlick(cos_theta, f0, f90=1.0, exponent=5.0) -> np.ndarray:
 
 
 def _schlick(mu, f0, f90, exponent):
-    mu = np.asarray(mu)[..., None]
-    exponent = np.asarray(exponent)[..., None]
-    return f0 + (f90 - f0) * (1.0 - mu) ** exponent
+    """f0 + (f90 - f0)(1 - mu)^exponent, ``(..., 3)``; channel by channel (``_channels``) where
+    the colours are (3,) and the exponent a scalar, the same arithmetic."""
+    mu, exponent = np.asarray(mu), np.asarray(exponent)
+    if exponent.shape == () and np.shape(f0) == (3,) and np.shape(f90) == (3,):
+        return shifted(tinted((1.0 - mu) ** exponent, f90 - f0), f0)
+    return f0 + (f90 - f0) * (1.0 - mu[..., None]) ** exponent[..., None]
 
 
 def f82(cos_theta, f0, f82) -> np.ndarray:
@@ -515,6 +518,10 @@ def f82_tint(cos_theta, f0, tint, f90=1.0, exponent=5.0) -> np.ndarray:
 def _f82_tint(mu, f0, tint, f90, exponent):
     schlick_max = _schlick(np.full(np.shape(exponent), COS_THETA_MAX), f0, f90, exponent)
     a = schlick_max * (1.0 - tint) / (COS_THETA_MAX * (1.0 - COS_THETA_MAX) ** 6)
-    mu3 = np.asarray(mu)[..., None]
-    value = _schlick(mu, f0, f90, exponent) - a * mu3 * (1.0 - mu3) ** 6
-    return np.clip(value, 0.0, 1.0)
+    mu = np.asarray(mu)
+    value = _schlick(mu, f0, f90, exponent)
+    if a.shape == (3,):  # a mu (1 - mu)^6 channel by channel, the same arithmetic
+        value -= weighted(tinted(mu, a), (1.0 - mu) ** 6)
+    else:
+        value = value - a * mu[..., None] * (1.0 - mu[..., None]) ** 6
+    return np.clip(value, 0.0, 1.0, out=value)

@@ -23,6 +23,7 @@ def test_channel_by_channel_is_the_broadcast_bit_for_bit(n):
     with np.errstate(all="ignore"):  # the special values
         pairs = [(ch.tinted(x, colour), x[:, None] * colour),
                  (ch.scaled(rgb, colour), rgb * colour),
+                 (ch.shifted(rgb, colour), rgb + colour),
                  (ch.weighted(rgb, x), rgb * x[:, None]),
                  (ch.divided(rgb, x), rgb / x[:, None]),
                  (ch.masked(mask, rgb), np.where(mask[:, None], rgb, 0.0)),
@@ -39,6 +40,7 @@ def test_other_shapes_broadcast_as_numpy_does():
     rng = np.random.default_rng(3)
     grey, texture = rng.random((N, 1)), rng.random((N, 3))
     np.testing.assert_array_equal(ch.scaled(grey, [1.0, 0.5, 0.0]), grey * [1.0, 0.5, 0.0])
+    np.testing.assert_array_equal(ch.shifted(grey, [1.0, 0.5, 0.0]), grey + [1.0, 0.5, 0.0])
     np.testing.assert_array_equal(ch.tinted(grey[:, 0], texture), grey * texture)
     np.testing.assert_array_equal(ch.weighted(texture[:1], grey[:, 0]), texture[:1] * grey)
 

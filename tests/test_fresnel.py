@@ -128,6 +128,21 @@ def test_f82_tint_matches_the_reference_listing_form():
     np.testing.assert_allclose(F.f82_tint(mu[:, 0], r, t), listing, atol=EXACT)
 
 
+def test_colour_fresnel_is_the_broadcast_formula_bit_for_bit():
+    """Large batches with (3,) colours go channel by channel: the same arithmetic, so the
+    same bits as the broadcast formula of [Schlick1994] and [Kutz2021, §2.4]."""
+    mu = np.random.default_rng(5).random(4096)
+    f0, f90 = np.array([0.9, 0.7, 0.3]), np.array([1.0, 0.95, 0.9])
+    tint = np.array([0.99, 0.9, 0.8])
+    m = mu[:, None]
+    schlick = f0 + (f90 - f0) * (1.0 - m) ** 5.0
+    np.testing.assert_array_equal(F.schlick(mu, f0, f90), schlick)
+    c = F.COS_THETA_MAX
+    a = (f0 + (f90 - f0) * (1.0 - c) ** 5.0) * (1.0 - tint) / (c * (1.0 - c) ** 6)
+    np.testing.assert_array_equal(F.f82_tint(mu, f0, tint, f90),
+                                  np.clip(schlick - a * m * (1.0 - m) ** 6, 0.0, 1.0))
+
+
 def test_f82_tint_defining_properties():
     mu = np.linspace(0, 1, 65)
     f0, tint = np.array([0.95, 0.64, 0.54]), np.array([0.8, 0.9, 0.7])
