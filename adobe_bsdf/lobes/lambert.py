@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf._channels import pick
+from adobe_bsdf._channels import pick, tinted
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.sampling import cosine_hemisphere
 
@@ -39,7 +39,7 @@ class Lambert(Lobe):
 
     def _eval(self, wo, wi):
         up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
-        return pick(up[..., None], self.reflectance / np.pi, 0.0)
+        return tinted(up, self.reflectance / np.pi)  # 1 c and 0 c: c and 0 for c >= 0 finite
 
     def _pdf(self, wo, wi):
         up = (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)

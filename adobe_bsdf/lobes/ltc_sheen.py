@@ -223,7 +223,7 @@ class LTCSheen(SupportLobe):
     def _f(self, E, t, up):
         """color E t^2 / pi, 0 outside ``up`` (E t first: E = 0 gives 0 at any t)."""
         f = saturated(E * t * t / np.pi)
-        return self.color * (f if up is None else pick(up, f, 0.0))[..., None]
+        return tinted(f if up is None else pick(up, f, 0.0), self.color)
 
     @staticmethod
     def _D(wz, t, up):
@@ -259,7 +259,7 @@ class LTCSheen(SupportLobe):
             pdf = self._D(lz, _ratio(a, b, lx, ly, lz), ok)
         c, s = _frame(wo)
         wi = np.stack(np.broadcast_arrays(c * lx - s * ly, s * lx + c * ly, lz), axis=-1)
-        weight = self.color * E[..., None]
+        weight = tinted(E, self.color)
         return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params
-from adobe_bsdf._channels import pick
+from adobe_bsdf._channels import pick, tinted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.lobes.energy_lookup import lookup
 from adobe_bsdf.microfacet import DEN_MIN, rescaled, saturated
@@ -157,7 +157,7 @@ class Sheen(SupportLobe):
 
     def _eval_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            return saturated(self._scale * self._f(wo, wi, up, self._D(wo, wi))[..., None])
+            return saturated(tinted(self._f(wo, wi, up, self._D(wo, wi)), self._scale))
 
     def _pdf_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -166,7 +166,7 @@ class Sheen(SupportLobe):
     def _eval_pdf_kernel(self, wo, wi, up):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             D = self._D(wo, wi)
-            return saturated(self._scale * self._f(wo, wi, up, D)[..., None]), self._p(wo, up, D)
+            return saturated(tinted(self._f(wo, wi, up, D), self._scale)), self._p(wo, up, D)
 
     # -- sampling ---------------------------------------------------------------------------
     def _sample(self, wo, u):
@@ -196,12 +196,12 @@ class Sheen(SupportLobe):
             two_cos = 2.0 * (ox * hx + oy * hy + oz * hz)
             wi = np.stack([two_cos * hx - ox, two_cos * hy - oy, two_cos * hz - oz], axis=-1)
             ok = (oz > 0.0) & (r > 0.0) & (norm > 0.0) & (wi[..., 2] > 0.0)
-            wi = pick(ok[..., None], wi, np.array([0.0, 0.0, 1.0]))
+            wi[~ok] = (0.0, 0.0, 1.0)  # (a fresh array) the normal where the sample failed
             iz = wi[..., 2]
             pdf, weight = self._p(wo, ok, self._D(wo, wi)), None
             if weigh:
                 e, K = self._shadowing(pick(ok, oz, 1.0), iz, s_o, self._sigma(wi))
-                weight = self._scale * pick(ok, s_o * iz * e / K, 0.0)[..., None]
+                weight = tinted(pick(ok, s_o * iz * e / K, 0.0), self._scale)
         return finished_sample(wi, weight, pdf, pick(ok, int(self.flags), int(Flags.NONE)))
 
     # -- albedo -----------------------------------------------------------------------------
@@ -226,8 +226,8 @@ class Sheen(SupportLobe):
             raise ValueError(f"p = {self.p!r}: method = 'table' needs p = 1 (the table holds "
                              "the albedo of p = 1); use 'quadrature' or 'mc'")
         E, error = self._table_E(wo, with_error)
-        return (self._scale * E[..., None],
-                None if error is None else self._scale * error[..., None])
+        return (tinted(E, self._scale),
+                None if error is None else tinted(error, self._scale))
 
     def _sampling_weight(self, wo):
         """luminance(c a) E: the table's albedo (of p = 1 whatever p is; any positive

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _params, quadrature
-from adobe_bsdf._channels import pick
+from adobe_bsdf._channels import pick, scaled, selected, weighted
 from adobe_bsdf.bsdf import BSDFSample, Flags
 from adobe_bsdf.composition import Wrapper
 from adobe_bsdf.fresnel import ExactDielectric
@@ -73,7 +73,7 @@ class TintedRefraction(Wrapper):
     def _tinted(self, f, wo, wi):
         zo, zi = wo[..., 2], wi[..., 2]
         across = ((zo < 0.0) != (zi < 0.0)) & (zo != 0.0) & (zi != 0.0)  # signs: no underflow
-        return pick(across[..., None], f * self.tint, f)
+        return selected(across, scaled(f, self.tint), f)
 
     def _eval(self, wo, wi):
         return self._tinted(self.lobe._eval(wo, wi), wo, wi)
@@ -87,8 +87,8 @@ class TintedRefraction(Wrapper):
         return self._tinted(f, wo, wi), pdf
 
     def _from_inner(self, sample, wo):
-        refracted = ((sample.flags & _T) != 0)[..., None]
-        return BSDFSample(sample.wi, pick(refracted, sample.weight * self.tint,
+        refracted = (sample.flags & _T) != 0
+        return BSDFSample(sample.wi, selected(refracted, scaled(sample.weight, self.tint),
                                               sample.weight), sample.pdf, sample.flags)
 
     # -- the energy: E_R + t E_T ----------------------------------------------------------
@@ -106,11 +106,11 @@ class TintedRefraction(Wrapper):
         """``method`` of the interface's reflection on the side of ``wo`` (from below: the
         reflection of index 1 / eta at the mirrored direction), per channel."""
         below = wo[..., 2] < 0.0
-        up = wo * pick(below, -1.0, 1.0)[..., None]
+        up = weighted(wo, pick(below, -1.0, 1.0))
         parts = []
         for pair in self._reflections:
             above, under = (getattr(r, method)(up) for r in pair)
-            parts.append(pick(below[..., None], under, above))
+            parts.append(selected(below, under, above))
         return self._per_channel(parts)
 
     def _delta_albedo(self, wo):
@@ -124,8 +124,9 @@ class TintedRefraction(Wrapper):
         plus the Kulla–Conty term's reflected share."""
         single = self._seen("_top_albedo", wo)
         grazing = wo[..., 2] == 0.0
-        multiple = [pick(grazing, 0.0, ms._reflect_probability(wo))[..., None]
-                    * ms._albedo_table(wo, False)[0] for ms in self._multiple]
+        multiple = [weighted(ms._albedo_table(wo, False)[0],
+                             pick(grazing, 0.0, ms._reflect_probability(wo)))
+                    for ms in self._multiple]
         return single + self._per_channel(multiple)
 
     def _albedo_table(self, wo, with_error=True):
