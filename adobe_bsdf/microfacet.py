@@ -469,40 +469,46 @@ def _beckmann_visible_slope(mu, u):
     """The x in [SLOPE_MIN, mu] with N(x) = u N(mu), N(x) = mu sqrt(pi) erfc(-x) / 2 +
     exp(-x^2) / 2 (``Beckmann.sample_visible``); x = erfinv(2 u - 1) where mu = inf. Newton
     steps that leave the bracket are replaced by bisection; at most 100 steps (bisection
-    alone would reach rounding in 60). Each element stops at its own convergence, so its
-    result does not depend on the rest of the batch (chunking is bit-identical)."""
+    alone would reach rounding in 60). Each element stops at its own convergence and the
+    steps run on the elements not yet converged only, so its result does not depend on the
+    rest of the batch (chunking is bit-identical) and a batch costs the steps its elements
+    take, not the slowest element's count times the batch."""
     mu = np.asarray(mu, dtype=np.float64)
     u = np.asarray(u, dtype=np.float64)
     normal = np.isinf(mu)
     x0 = special.erfinv(2.0 * u - 1.0)
     if normal.all():
         return x0
-    m = pick(normal, 0.0, mu)  # finite stand-in, replaced below
+    shape = np.broadcast_shapes(mu.shape, u.shape)
     root_pi_2 = 0.5 * np.sqrt(np.pi)
 
-    def n_of(x):
+    def n_of(m, x):
         with np.errstate(over="ignore"):  # x^2 = inf near normal incidence: exp(-x^2) = 0
             return m * root_pi_2 * special.erfc(-x) + 0.5 * np.exp(-x * x)
 
-    target = u * n_of(m)
-    lo = np.full(m.shape, SLOPE_MIN)
-    hi = m.copy()
-    x = np.clip(x0, lo, hi)
-    active = ~normal  # an element stops at its own convergence: no batch dependence
+    active = np.flatnonzero(~np.broadcast_to(normal, shape))  # the elements still iterating
+    m = np.broadcast_to(mu, shape).reshape(-1)[active]
+    target = np.broadcast_to(u, shape).reshape(-1)[active] * n_of(m, m)
+    lo, hi = np.full(m.shape, SLOPE_MIN), m.copy()
+    x = np.clip(np.broadcast_to(x0, shape).reshape(-1)[active], lo, hi)
+    out = np.array(np.broadcast_to(x0, shape)).reshape(-1)
     for _ in range(100):
-        g = n_of(x) - target
+        g = n_of(m, x) - target
         lo = pick(g < 0.0, x, lo)
         hi = pick(g > 0.0, x, hi)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             step = x - g / ((m - x) * np.exp(-x * x))  # not finite: bisection instead
         inside = (step > lo) & (step < hi)
         new = pick(inside, step, 0.5 * (lo + hi))
-        done = (g == 0.0) | (np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x)))
-        x = pick(active & (g != 0.0), new, x)
-        active &= ~done
-        if not active.any():
-            break
-    return pick(normal, x0, x)
+        going = ~((g == 0.0) | (np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x))))
+        x = pick(g != 0.0, new, x)
+        if not going.all():  # the converged elements are final: set aside
+            out[active[~going]] = x[~going]
+            active, m, target, lo, hi, x = (a[going] for a in (active, m, target, lo, hi, x))
+            if not active.size:
+                break
+    out[active] = x  # (any left after 100 steps)
+    return out.reshape(shape)
 
 
 #: the microfacet models a lobe can be built on (``distribution``)
