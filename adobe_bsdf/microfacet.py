@@ -503,8 +503,9 @@ def _beckmann_visible_slope(mu, u):
         going = ~((g == 0.0) | (np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x))))
         x = pick(g != 0.0, new, x)
         if not going.all():  # the converged elements are final: set aside
-            out[active[~going]] = x[~going]
-            active, m, target, lo, hi, x = (a[going] for a in (active, m, target, lo, hi, x))
+            done, keep = np.flatnonzero(~going), np.flatnonzero(going)
+            np.put(out, active.take(done), x.take(done))
+            active, m, target, lo, hi, x = (a.take(keep) for a in (active, m, target, lo, hi, x))
             if not active.size:
                 break
     out[active] = x  # (any left after 100 steps)
