@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf import _params
-from adobe_bsdf._channels import masked, pick, selected, tinted, weighted
+from adobe_bsdf import _memo, _params
+from adobe_bsdf._channels import masked, pick, put_rows, take_rows, tinted, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 from adobe_bsdf.sampling import azimuth, cosine_hemisphere, disk_xy
@@ -64,7 +64,12 @@ def _deficit(mu):
     """(1 - E_hat) / B = C1 - G(mu) / pi >= 0 (as 1 / A = 1 + C1 sigma): 1 - E_hat without
     its cancellation at small sigma; clamped at 0 where rounding puts G / pi above C1
     (mu ~ 0)."""
-    return np.maximum(C1 - _G_over_pi(mu), 0.0)
+    return _deficit_of(_G_over_pi(mu))
+
+
+def _deficit_of(G_over_pi):
+    """``_deficit`` from G(mu) / pi."""
+    return np.maximum(C1 - G_over_pi, 0.0)
 
 
 def fon_albedo(mu, sigma) -> np.ndarray:
@@ -185,6 +190,22 @@ class EnergyPreservingOrenNayar(SupportLobe):
             raise ValueError(f"albedo {self.reflectance.shape} and roughness "
                              f"{self.roughness.shape} do not broadcast") from exc
 
+    # -- the quantities of wo, once per call (``_memo``: sampling, eval and pdf share them) ----
+    def _G_at(self, wo):
+        """G(mu_o) / pi."""
+        return _memo.once(self, "G", wo, lambda w: _G_over_pi(np.clip(w[..., 2], 0.0, 1.0)))
+
+    def _frame_at(self, wo):
+        return _memo.once(self, "frame", wo, _frame)
+
+    def _ltc_at(self, wo):
+        """``(a, b, c, d, s, P_u)``: the LTC matrix, its clip scale and the uniform share."""
+        def compute(w):
+            mu_o = np.clip(w[..., 2], 0.0, 1.0)
+            a, b, c, d = _ltc(mu_o, self.roughness)
+            return a, b, c, d, _clip_scale(d), _uniform_share(mu_o, self.roughness)
+        return _memo.once(self, "ltc", wo, compute)
+
     # -- eval and pdf ---------------------------------------------------------------------------
     def _support(self, wo, wi):
         return (wo[..., 2] > 0.0) & (wi[..., 2] > 0.0)
@@ -202,7 +223,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             s_over_t = saturated(pick(t > 0.0, s / t, 0.0))
         fon = _A(sigma) * (1.0 + sigma * s_over_t)
-        ms = sigma * _A(sigma) * (_deficit(mu_o) * _deficit(mu_i)) / (C1 - C2)
+        ms = sigma * _A(sigma) * (_deficit_of(self._G_at(wo)) * _deficit(mu_i)) / (C1 - C2)
         f = tinted(fon, self.reflectance)
         f += tinted(ms, self._rho_ms)
         f /= np.pi
@@ -215,9 +236,8 @@ class EnergyPreservingOrenNayar(SupportLobe):
             shape = np.broadcast_shapes(wo.shape[:-1], wi.shape[:-1], sigma.shape)
             pdf = np.broadcast_to(wi[..., 2], shape) / np.pi
             return pdf if up is None else pick(up, pdf, 0.0)
-        mu_o = np.clip(wo[..., 2], 0.0, 1.0)
-        a, b, c, d = _ltc(mu_o, sigma)
-        cx, cy = _frame(wo)
+        a, b, c, d, s, share = self._ltc_at(wo)
+        cx, cy = self._frame_at(wo)
         x = cx * wi[..., 0] + cy * wi[..., 1]  # wi in the LTC frame
         y = cx * wi[..., 1] - cy * wi[..., 0]
         z = wi[..., 2]
@@ -227,8 +247,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
         Dx, Dy, Dz = (c - det) * x - b * c * z, (a - b * d - det) * y, (a * c - det) * z - c * d * x
         length2 = det * det + Dx * (2.0 * det * x + Dx) + Dy * (2.0 * det * y + Dy) + Dz * (
             2.0 * det * z + Dz)
-        pdf_c = (det / length2) ** 2 * np.maximum(det * z + Dz, 0.0) / (np.pi * _clip_scale(d))
-        share = _uniform_share(mu_o, sigma)
+        pdf_c = (det / length2) ** 2 * np.maximum(det * z + Dz, 0.0) / (np.pi * s)
         pdf = share / (2.0 * np.pi) + (1.0 - share) * pdf_c
         return pdf if up is None else pick(up, pdf, 0.0)
 
@@ -263,11 +282,8 @@ class EnergyPreservingOrenNayar(SupportLobe):
 
     def _directions(self, wo, u):
         """wi of the CLTC / uniform mixture (sigma > 0 somewhere)."""
-        sigma = self.roughness
-        mu_o = np.clip(wo[..., 2], 0.0, 1.0)
-        a, b, c, d = _ltc(mu_o, sigma)
-        s = _clip_scale(d)
-        cx, cy = _frame(wo)
+        a, b, c, d, s, share = self._ltc_at(wo)
+        cx, cy = self._frame_at(wo)
         # clipped LTC: a point (x, y) of the unit disk in the LTC frame, squeezed onto the
         # clipped part, x_c = s x - (1 - s) r in [-r, v_z r] (r = sqrt(1 - y^2); mirrored
         # where d > 0), lifted to the hemisphere and mapped by M. The height is
@@ -281,16 +297,19 @@ class EnergyPreservingOrenNayar(SupportLobe):
         z = np.sqrt(np.maximum(0.0, (1.0 - px ** 2 - py ** 2)
                                + (1.0 - s) * (x + r) * (x + x_c)))
         x = pick(d > 0.0, -x_c, x_c)
-        m = np.stack([a * x + b * z, c * y, d * x + z], axis=-1)
-        m /= np.linalg.norm(m, axis=-1, keepdims=True)
-        cltc = np.stack([cx * m[..., 0] - cy * m[..., 1], cy * m[..., 0] + cx * m[..., 1],
-                         m[..., 2]], axis=-1)
-        # uniform hemisphere
-        cos = 1.0 - u[..., 1]
-        sin = np.sqrt(np.maximum(0.0, (1.0 - cos) * (1.0 + cos)))
-        cos_p, sin_p = azimuth(u[..., 2])
-        uniform = np.stack([sin * cos_p, sin * sin_p, cos], axis=-1)
-        return selected(u[..., 0] < _uniform_share(mu_o, sigma), uniform, cltc)
+        mx, my, mz = a * x + b * z, c * y, d * x + z
+        norm = np.sqrt(mx * mx + my * my + mz * mz)  # |m|, as np.linalg.norm sums it
+        mx, my, mz = mx / norm, my / norm, mz / norm
+        wi = np.stack(np.broadcast_arrays(cx * mx - cy * my, cy * mx + cx * my, mz), axis=-1)
+        # the uniform hemisphere where u[0] < P_u: the rows that chose it (a flat batch),
+        # else every row
+        uniform = u[..., 0] < share
+        if wi.ndim == 2 and u.shape == wi.shape:
+            index = np.flatnonzero(uniform)
+            put_rows(wi, index, _uniform_hemisphere(take_rows(u, index)))
+        else:
+            wi = np.where(uniform[..., None], _uniform_hemisphere(u), wi)
+        return wi
 
     # -- albedo -----------------------------------------------------------------------------------
     def _albedo(self, wo):
@@ -298,10 +317,9 @@ class EnergyPreservingOrenNayar(SupportLobe):
         up = wo[..., 2] > 0.0
         if self._lambert:  # E_hat = 1 and the multiple-scattering term 0: E = rho
             return masked(up, self._rho(np.broadcast_shapes(up.shape, self.roughness.shape)))
-        sigma = self.roughness[..., None]
-        mu = np.clip(wo[..., 2], 0.0, 1.0)[..., None]
-        E = (self.reflectance * _E_hat(mu, sigma)
-             + self._rho_ms * (sigma * _A(sigma) * _deficit(mu)))
+        sigma, G = self.roughness, self._G_at(wo)
+        E = tinted(_A(sigma) * (1.0 + sigma * G), self.reflectance)  # rho E_hat(mu_o)
+        E += tinted(sigma * _A(sigma) * _deficit_of(G), self._rho_ms)
         return masked(up, E)
 
     def _rho(self, batch):
@@ -332,6 +350,15 @@ class EnergyPreservingOrenNayar(SupportLobe):
 
     def _sampling_weight(self, wo):
         return luminance(self._albedo(wo))
+
+
+def _uniform_hemisphere(u):
+    """The uniform hemisphere's direction of ``u`` (..., 3) (u[1]: 1 - cos theta, u[2]: the
+    azimuth)."""
+    cos = 1.0 - u[..., 1]
+    sin = np.sqrt(np.maximum(0.0, (1.0 - cos) * (1.0 + cos)))
+    cos_p, sin_p = azimuth(u[..., 2])
+    return np.stack([sin * cos_p, sin * sin_p, cos], axis=-1)
 
 
 #: short name
