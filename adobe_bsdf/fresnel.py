@@ -460,12 +460,13 @@ def schlick(cos_theta, f0, f90=1.0, exponent=5.0) -> np.ndarray:
 
 
 def _schlick(mu, f0, f90, exponent):
-    """f0 + (f90 - f0)(1 - mu)^exponent, ``(..., 3)``; channel by channel (``_channels``) where
-    the colours are (3,) and the exponent a scalar, the same arithmetic."""
-    mu, exponent = np.asarray(mu), np.asarray(exponent)
-    if exponent.shape == () and np.shape(f0) == (3,) and np.shape(f90) == (3,):
-        return shifted(tinted((1.0 - mu) ** exponent, f90 - f0), f0)
-    return f0 + (f90 - f0) * (1.0 - mu[..., None]) ** exponent[..., None]
+    """f0 + (f90 - f0)(1 - mu)^exponent, ``(..., 3)``, by the colour helpers of ``_channels``
+    (channel by channel where the colours are (3,), else NumPy's broadcast): the same
+    arithmetic whatever the shapes."""
+    # the power of (..., 1) arrays: NumPy's array power, which can differ in the last bit
+    # from the scalar power a 0-d operand would take
+    mu, exponent = np.asarray(mu)[..., None], np.asarray(exponent)[..., None]
+    return shifted(tinted(((1.0 - mu) ** exponent)[..., 0], np.subtract(f90, f0)), f0)
 
 
 def f82(cos_theta, f0, f82) -> np.ndarray:
@@ -519,9 +520,6 @@ def _f82_tint(mu, f0, tint, f90, exponent):
     schlick_max = _schlick(np.full(np.shape(exponent), COS_THETA_MAX), f0, f90, exponent)
     a = schlick_max * (1.0 - tint) / (COS_THETA_MAX * (1.0 - COS_THETA_MAX) ** 6)
     mu = np.asarray(mu)
-    value = _schlick(mu, f0, f90, exponent)
-    if a.shape == (3,):  # a mu (1 - mu)^6 channel by channel, the same arithmetic
-        value -= weighted(tinted(mu, a), (1.0 - mu) ** 6)
-    else:
-        value = value - a * mu[..., None] * (1.0 - mu[..., None]) ** 6
+    pow6 = ((1.0 - mu[..., None]) ** 6)[..., 0]  # (the power on arrays, as in _schlick)
+    value = _schlick(mu, f0, f90, exponent) - weighted(tinted(mu, a), pow6)
     return np.clip(value, 0.0, 1.0, out=value)
