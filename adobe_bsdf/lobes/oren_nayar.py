@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from adobe_bsdf import _memo, _params
-from adobe_bsdf._channels import masked, pick, put_rows, take_rows, tinted, weighted
+from adobe_bsdf._channels import masked, pick, put_rows, selected, take_rows, tinted, weighted
 from adobe_bsdf.bsdf import Flags, SupportLobe, finished_sample, luminance
 from adobe_bsdf.microfacet import saturated
 from adobe_bsdf.sampling import azimuth, cosine_hemisphere, disk_xy
@@ -308,7 +308,7 @@ class EnergyPreservingOrenNayar(SupportLobe):
             index = np.flatnonzero(uniform)
             put_rows(wi, index, _uniform_hemisphere(take_rows(u, index)))
         else:
-            wi = np.where(uniform[..., None], _uniform_hemisphere(u), wi)
+            wi = selected(uniform, _uniform_hemisphere(u), wi)
         return wi
 
     # -- albedo -----------------------------------------------------------------------------------
