@@ -80,6 +80,40 @@ def test_a_batch_of_one_repeated_point_is_looked_up_bit_for_bit():
         table.error(mu, alpha, eta)[0], table.error(np.array([0.3]), np.array([0.25]), eta)[0])
 
 
+def test_outputs_are_gathered_one_by_one_bit_for_bit():
+    """A lookup gathers each output of a table by itself: the same bits as the tensor-product
+    stencil summed corner by corner over the rows of every output; ``total`` is its sum over
+    the outputs bit for bit (NumPy's sum turns -0 into +0: a table of -0 at a node), values
+    and errors."""
+    table = tables.get("ggx_dielectric_outside")
+    rng = np.random.default_rng(11)
+    coords = [np.concatenate([rng.uniform(a.lo, a.hi, 500), a.nodes()[:7], [a.lo, a.hi]])
+              for a in table.spec.axes]
+    for data, absolute, lookup in ((table.values, False, table),
+                                   (table.errors, True, table.error)):
+        stencils = [a.stencil_parts(c) for a, c in zip(table.spec.axes, coords, strict=True)]
+        n = [a.n for a in table.spec.axes]
+        expected = 0.0
+        for i in range(4):
+            for j in range(4):
+                for k in range(4):
+                    w = stencils[0][1][i] * stencils[1][1][j] * stencils[2][1][k]
+                    w = np.abs(w) if absolute else w
+                    index = (((stencils[0][0] + i) * n[1] + stencils[1][0] + j) * n[2]
+                             + stencils[2][0] + k)
+                    expected = expected + data.reshape(-1, 2)[index] * w[:, None]
+        assert np.array_equal(lookup(*coords), expected)
+        total = table.total(*coords, error=absolute)
+        assert np.array_equal(total, expected.sum(-1))
+    spec = TableSpec("test_zero", (Axis("mu", 0.0, 1.0, 9, "linear", "linear"),
+                                   Axis("alpha", 0.0, 2.0, 5, "linear", "linear")),
+                     ("a", "b"), _poly, "closed form", 1)
+    zero = Table(spec, np.full(spec.shape, -0.0), np.zeros(spec.shape))
+    at_node = (np.array([0.5]), np.array([1.0]))  # weights 1 and 0: every product is -0
+    assert np.signbit(zero(*at_node)).all()
+    assert not np.signbit(zero.total(*at_node)).any() and zero.total(*at_node) == 0.0
+
+
 @pytest.mark.parametrize("name, fixed", [("ggx_conductor", {"alpha": 0.37}),
                                          ("ggx_dielectric_inside", {"alpha": 0.2, "eta": 1.33}),
                                          ("asm_diffuse_L", {"roughness": 0.0, "ior": 4.0})])

@@ -165,10 +165,12 @@ def lookup(name: str, mu, with_error: bool = False, channel: int | None = None, 
     else:
         table, coords = tables.get(name), (mu, *params.values())
 
-    def of_channel(data):
-        return data.sum(-1) if channel is None else data[..., channel]
+    def of_channel(error):
+        if channel is None:
+            return table.total(*coords, error=error)
+        return (table.error if error else table)(*coords)[..., channel]
 
-    return of_channel(table(*coords)), (of_channel(table.error(*coords)) if with_error else None)
+    return of_channel(False), (of_channel(True) if with_error else None)
 
 
 @functools.lru_cache(maxsize=512)

@@ -404,7 +404,25 @@ class Table:
             return horner(lambda p: np.take(c[p], cell), t[0])
         return horner(lambda p: horner(lambda q: np.take(c[p, q], cell), t[1]), t[0])
 
+    def total(self, *coords, error: bool = False) -> np.ndarray:
+        """The lookup summed over the outputs, ``(...)`` (of ``error``'s estimate if
+        ``error``): bit for bit ``table(*coords).sum(-1)``, without forming the
+        ``(..., n_outputs)`` array where the outputs are gathered one by one."""
+        data = self.errors if error else self.values
+        if data.shape[-1] != 2:
+            return self._interpolate(data, coords, absolute=error).sum(-1)
+        a, b = self._outputs(data, coords, absolute=error)
+        a += b
+        a += 0.0  # NumPy's sum starts from +0: its -0 + -0 is +0
+        return a
+
     def _interpolate(self, data, coords, absolute):
+        outs = self._outputs(data, coords, absolute)
+        return outs[0][..., None] if len(outs) == 1 else np.stack(outs, axis=-1)
+
+    def _outputs(self, data, coords, absolute) -> list:
+        """The lookup of ``data`` (the values, or with ``absolute`` weights the errors) at
+        ``coords``: one array ``(...)`` per output."""
         axes = self.spec.axes
         if len(coords) != len(axes):
             raise ValueError(f"table {self.spec.name} takes {len(axes)} coordinates "
@@ -415,32 +433,46 @@ class Table:
                 c.size and c.min() == c.max() for c in coords):
             # one point repeated (a batch of one view direction): looked up once, the same
             # arithmetic, so the same bits, broadcast back
-            one = self._interpolate(data, [c.reshape(-1)[:1] for c in coords], absolute)
-            return np.broadcast_to(one[0], shape + one.shape[-1:]).copy()
+            one = self._outputs(data, [c.reshape(-1)[:1] for c in coords], absolute)
+            return [np.broadcast_to(x[0], shape).copy() for x in one]
         if (len(axes) <= 2 and all(a.interpolation == "cubic" for a in axes)
                 and data.shape[-1] == 1 and not absolute and data is self.values):
-            return self._polynomial(coords)[..., None]
+            return [self._polynomial(coords)]
         stencils = [a.stencil_parts(c, self.spec.name) for a, c in zip(axes, coords, strict=True)]
         strides = np.cumprod((1,) + tuple(a.n for a in axes[:0:-1]))[::-1]
         base = None  # flat index of every lookup's first stencil node
         for (start, _), stride in zip(stencils, strides, strict=True):
             base = start * stride if base is None else base + start * stride
-        single = data.shape[-1] == 1  # one output: gathers from a flat array
-        flat = data.reshape(-1) if single else data.reshape(-1, data.shape[-1])
-        out = None
+        flats = self._flat_outputs(data)
+        outs = [None] * len(flats)
         for corner in itertools.product(*(range(len(w)) for _, w in stencils)):
             offset, weight = 0, None
             for c, stride, (_, w) in zip(corner, strides, stencils, strict=True):
                 offset += c * stride
                 weight = w[c] if weight is None else weight * w[c]
             weight = np.abs(weight) if absolute else weight
-            term = (np.take(flat, base + offset) * weight if single
-                    else flat[base + offset] * weight[..., None])
-            if out is None:
-                out = term
-            else:
-                out += term
-        return out[..., None] if single else out
+            index = base + offset
+            for k, flat in enumerate(flats):
+                term = np.take(flat, index) * weight
+                if outs[k] is None:
+                    outs[k] = term
+                else:
+                    outs[k] += term
+        return outs
+
+    def _flat_outputs(self, data):
+        """``data`` (the values or the errors) as one contiguous flat array per output,
+        made on first use: the lookup gathers each output by ``np.take`` (a gather of rows
+        of several outputs costs several times more; the products and sums per output are
+        the same)."""
+        key = {id(self.values): "_flat_values", id(self.errors): "_flat_errors"}.get(id(data))
+        flats = self.__dict__.get(key)
+        if flats is None:
+            flats = [np.ascontiguousarray(data[..., k]).reshape(-1)
+                     for k in range(data.shape[-1])]
+            if key is not None:
+                self.__dict__[key] = flats
+        return flats
 
     def channel(self, name: str) -> int:
         """Index of output channel ``name``."""
