@@ -22,7 +22,10 @@ and sample / Σ lobes' sample, what a material's sample costs against its lobes'
 evaluates the others at the sampled directions).
 At the sampled directions (``sampled_directions``): the material's ``eval`` and every
 lobe's ``eval_pdf`` there, and the floor sum_i min(sample_i, eval_pdf_i there): what the
-lobes' own work costs a sample, whatever composes them (``sampled_summary``).
+lobes' own work costs a sample, whatever composes them (``sampled_summary``); and the
+mixture floor sum_i P_i sample_i + (1 - P_i) eval_pdf_i there, with P_i the share of the
+pairs the material sampled lobe i on (``sample_shares``, ``mixture_floor``): what its lobes
+cost a sample chosen as the material chooses, with nothing spent on composing them.
 ``before`` repeats the measurement on ``BASELINE`` (the library before the material-cost
 work) in a subprocess of the same run (``benchmarks.baseline.run_script``), on the first
 ``BEFORE_N`` of the pairs. ``unretained`` repeats the materials' eval and sample (one run)
@@ -39,7 +42,8 @@ import numpy as np
 
 from benchmarks import throughput as tp
 
-__all__ = ["BASELINE", "CALLS", "material_cases", "measure", "run", "markdown"]
+__all__ = ["BASELINE", "CALLS", "material_cases", "sample_shares", "mixture_floor", "measure",
+           "run", "markdown"]
 
 #: the library before the work on whole materials' cost (the "before" column)
 BASELINE = "edb2db5"
@@ -92,6 +96,45 @@ def sampled_directions(material, wo, wi, u):
     pairs on which a material's sample evaluates its lobes."""
     s = material.sample(wo, u)
     return np.where((s.pdf > 0.0)[:, None], s.wi, wi)
+
+
+def sample_shares(material, wo, u) -> dict:
+    """``{name: share}``: the share of the pairs of ``material.sample(wo, u)`` (after one
+    warm-up call: tables built on first use sample their lobes) that each lobe of
+    ``material.lobes`` was sampled on (the rows handed to its own sampler; a lobe that a
+    composition samples on every pair, textured parameters for one, counts them all)."""
+    from adobe_bsdf.config import options
+
+    material.sample(wo, u)
+    counts = dict.fromkeys(material.lobes, 0)
+    inside = set()  # lobes in one of their counted calls (a hook calling another)
+
+    def counter(name, call):
+        def counting(w, v, *rest):
+            outer = name not in inside
+            if outer:
+                counts[name] += int(np.prod(np.broadcast_shapes(w.shape, v.shape)[:-1]))
+                inside.add(name)
+            try:
+                return call(w, v, *rest)
+            finally:
+                if outer:
+                    inside.discard(name)
+        return counting
+
+    patched = []
+    for name, lobe in material.lobes.items():
+        for hook in ("_sample", "_sample_t", "_sample_directions"):
+            # an instance attribute over the method
+            setattr(lobe, hook, counter(name, getattr(lobe, hook)))
+            patched.append((lobe, hook))
+    try:
+        with options(threads=1):  # (the count is not shared between threads)
+            material.sample(wo, u)
+    finally:
+        for lobe, hook in patched:
+            delattr(lobe, hook)
+    return {name: count / len(u) for name, count in counts.items()}
 
 
 def _interleaved(timers, n, wo, u, runs) -> list:
@@ -154,6 +197,8 @@ def measure(n: int, runs: int, log=None, calls=CALLS, lobes: bool = True,
                 for key in path[:-1]:
                     place = place.setdefault(key, {})
                 place[path[-1]] = seconds
+            if lobes and sampled:
+                row["shares"] = sample_shares(material, wo[:n], u[:n])
             row["faults"] = {c: _faults(material, c, n, wo, wi, u) for c in ("eval", "sample")}
         except Exception as exc:  # reported, not fatal
             row["error"] = f"{type(exc).__name__}: {exc}"
@@ -279,11 +324,26 @@ def sampled_summary(section: dict) -> list:
         if "error" in row or not there:
             continue
         floor = sum(min(row["lobe_samples"][k], there["lobes"][k]) for k in there["lobes"])
-        out.append((row["case"], {"eval": _passes(section, row["eval"]),
-                                  "eval there": _passes(section, there["eval"]),
-                                  "sample": _passes(section, row["sample"]),
-                                  "floor": _passes(section, floor)}))
+        p = {"eval": _passes(section, row["eval"]),
+             "eval there": _passes(section, there["eval"]),
+             "sample": _passes(section, row["sample"]), "floor": _passes(section, floor)}
+        if "shares" in row:
+            p["mixture floor"] = _passes(section, mixture_floor(row))
+        out.append((row["case"], p))
     return out
+
+
+def mixture_floor(row: dict) -> float:
+    """Seconds of sum_k P_k sample_k + (1 - P_k) eval_pdf_k there, P_k the share of the pairs
+    the material sampled lobe k on (at most 1): each pair needs its chosen lobe's sample
+    and every other lobe's value and pdf at the sampled direction, with the material's own
+    choices (its selection probabilities, computed for free)."""
+    there = row["sampled"]["lobes"]
+    total = 0.0
+    for k, share in row["shares"].items():
+        share = min(share, 1.0)
+        total += share * row["lobe_samples"][k] + (1.0 - share) * there[k]
+    return total
 
 
 def _sampled_table(section: dict) -> list:
@@ -298,20 +358,40 @@ def _sampled_table(section: dict) -> list:
            "returned). *Floor*: the sum over the active lobes of the smaller of the lobe's "
            "own `sample` (on every pair) and its `eval_pdf` at the sampled directions: every "
            "pair needs, of each lobe, either its sample or its value and pdf there, so no "
-           "composition of these lobes samples for less. Same pairs, runs and unit as "
-           "above.", "",
+           "composition of these lobes samples for less. *Mixture floor*: with the "
+           "material's own choice of lobe, sum_k P_k sample_k + (1 - P_k) eval_pdf_k there, "
+           "P_k the share of the pairs it sampled lobe k on (*shares*; counted in one "
+           "`sample` call): every pair needs its chosen lobe's sample and the other lobes' "
+           "value and pdf at the sampled direction, even with the selection probabilities "
+           "free. Same pairs, runs and unit as above.", "",
            "| case | eval | eval there | sample | sample / eval | sample / eval there | "
-           "floor | floor / eval | sample / floor |", "|---|---|---|---|---|---|---|---|---|"]
+           "floor | floor / eval | sample / floor | mixture floor | mixture floor / eval | "
+           "sample / mixture floor | shares |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for label, p in rows:
+        mixture = p.get("mixture floor")
+        mixed = ("– | – | – | –" if mixture is None else
+                 f"{mixture:.0f} | {mixture / p['eval']:.2f} | {p['sample'] / mixture:.2f} | "
+                 + ", ".join(f"{k} {v:.2f}" for k, v in _shares(section, label).items()))
         out.append(f"| {label} | {p['eval']:.0f} | {p['eval there']:.0f} | {p['sample']:.0f} "
                    f"| {p['sample'] / p['eval']:.2f} | {p['sample'] / p['eval there']:.2f} | "
                    f"{p['floor']:.0f} | {p['floor'] / p['eval']:.2f} | "
-                   f"{p['sample'] / p['floor']:.2f} |")
-    above = [label for label, p in rows if p["floor"] > BOUNDS["sample / eval"] * p["eval"]]
-    out += ["", f"Floor above {BOUNDS['sample / eval']:g}× the material's eval (where the "
-            "bound sample / eval cannot be met by any composition of these lobes): "
+                   f"{p['sample'] / p['floor']:.2f} | {mixed} |")
+    bound = BOUNDS["sample / eval"]
+    above = [label for label, p in rows if p["floor"] > bound * p["eval"]]
+    out += ["", f"Floor above {bound:g}× the material's eval (where the bound sample / eval "
+            "cannot be met by any composition of these lobes): "
             + (", ".join(above) if above else "none") + "."]
+    above = [label for label, p in rows if p.get("mixture floor", 0.0) > bound * p["eval"]]
+    out += ["", f"Mixture floor above {bound:g}× the material's eval (where these lobes, "
+            "chosen as the material chooses them, cost a sample more than the bound "
+            "allows): " + (", ".join(above) if above else "none") + "."]
     return out
+
+
+def _shares(section: dict, label: str) -> dict:
+    """The sampled shares of case ``label``'s lobes."""
+    return next(row["shares"] for row in section["rows"] if row["case"] == label)
 
 
 #: the acceptance bounds of the ratios

@@ -297,9 +297,14 @@ def test_material_cost(smoke):
         assert row["lobe_samples"].keys() == row["lobes"].keys(), row
         assert all(t > 0 for t in row["lobe_samples"].values()), row
         assert all(row[call] > 0 for call in material_cost.CALLS), row
+        # each pair is sampled by exactly one lobe (a flat batch of scalar parameters)
+        assert row["shares"].keys() == row["lobes"].keys(), row
+        assert abs(sum(row["shares"].values()) - 1.0) < 1e-12, row["shares"]
+        assert 0.0 < material_cost.mixture_floor(row) <= sum(row["lobe_samples"].values())
     assert section["pass_seconds"] > 0
     assert "rows" in section["before"], section["before"].get("error")
     assert "## Whole materials against their lobes" in text and "sample / eval" in text
+    assert "Mixture floor above" in text
 
 
 def test_pick_crossover_runs():
