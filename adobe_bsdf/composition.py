@@ -1007,6 +1007,7 @@ def _mirrored(w, where=True):
 
 
 _R, _TR = int(Flags.REFLECTION), int(Flags.TRANSMISSION)
+_SIDES = _R | _TR
 
 
 class _Mirroring(Wrapper):
@@ -1162,13 +1163,38 @@ def _mixture_sample(components, k, wo, u, throughput, combine):
             if i == j:
                 parts.append((weighted(s.weight, s.pdf), s.pdf))
             else:
-                f, p = other._eval_pdf_t(wo_j, s.wi, t)
+                f, p = _on_its_side(other, wo_j, s.wi, t)
                 parts.append((weighted(f, cos), p))
         w, p = combine(j, index, wo_j, s, parts)
         put_rows(wi, index, s.wi)
         put_rows(weight, index, w)
         pdf[index], flags[index] = p, s.flags
     return wi, weight, pdf, flags
+
+
+def _on_its_side(lobe, wo, wi, throughput):
+    """``lobe._eval_pdf_t(wo, wi, throughput)`` at directions another component sampled
+    (``wo``, ``wi`` (m, 3)): a ``Sum`` or ``Layer`` that only reflects (only transmits) is
+    evaluated on the pairs not on opposite sides (on the same side) alone, and is 0 on the
+    others, where every lobe of it is 0; its levels would otherwise each weigh and combine
+    those pairs (its leaf lobes restrict themselves to their support)."""
+    sides = lobe.flags & _SIDES
+    if sides in (0, _SIDES) or not isinstance(lobe, (Sum, Layer)):
+        return lobe._eval_pdf_t(wo, wi, throughput)
+    product = wo[:, 2] * wi[:, 2]
+    outside = product < 0.0 if sides == _R else product > 0.0
+    if not outside.any():
+        return lobe._eval_pdf_t(wo, wi, throughput)
+    m = len(wo)
+    f, pdf = np.zeros((m, 3)), np.zeros(m)
+    index = np.flatnonzero(~outside)
+    if len(index):
+        t = None if throughput is None else take_rows(np.broadcast_to(throughput, (m, 3)),
+                                                      index)
+        fi, pi = lobe._eval_pdf_t(_memo.rows(wo, index), take_rows(wi, index), t)
+        put_rows(f, index, np.broadcast_to(fi, (len(index), 3)))
+        pdf[index] = pi
+    return f, pdf
 
 
 def _chosen_samples(components, k, wo, u, throughput, weights=None):

@@ -140,3 +140,37 @@ def test_a_stochastic_component_is_evaluated_at_its_own_samples():
         assert not mixture.weight_is_ratio
     assert not _by_groups((walk, Lambert()), wo, u)
     assert _by_groups((Conductor(0.2), Lambert()), wo, u)
+
+
+def test_a_one_sided_composition_is_evaluated_on_its_side_only():
+    """At another component's samples, a ``Sum`` or ``Layer`` that only reflects (only
+    transmits) is evaluated on the pairs of its side alone and is 0 on the others: the
+    same bits as evaluating it on every pair, pairs in the tangent plane included; and a
+    pass-through (transmission) mixed with a reflecting layer samples to the same bits as
+    the mixture whose layer is evaluated on every pair."""
+    from adobe_bsdf import composition
+    from adobe_bsdf.composition import Flipped, Layer
+    from adobe_bsdf.lobes import DielectricReflection, PassThrough
+
+    wo, wi, u = _pairs(5000)
+    wi[:7, 2] = 0.0  # the tangent plane: on neither side
+    wi[:7] /= np.linalg.norm(wi[:7], axis=1)[:, None]
+    reflecting = Layer(DielectricReflection(1.5, 0.3), Lambert(0.7))
+    transmitting = Sum(Flipped(Lambert(0.4)), Flipped(Conductor(0.3)))
+    assert not reflecting.flags & ab.Flags.TRANSMISSION
+    assert not transmitting.flags & ab.Flags.REFLECTION
+    for lobe in (reflecting, transmitting):
+        f, pdf = composition._on_its_side(lobe, wo, wi, None)
+        f_all, pdf_all = lobe._eval_pdf_t(wo, wi, None)
+        assert np.array_equal(f, f_all) and np.array_equal(pdf, pdf_all)
+        assert np.any(pdf == 0.0) and np.any(pdf > 0.0)  # both sides present
+    mix = Sum(PassThrough(), reflecting, weights=[0.6, 0.4])
+    s = mix.sample(wo, u)
+    plain = lambda lobe, wo, wi, t: lobe._eval_pdf_t(wo, wi, t)  # noqa: E731
+    original, composition._on_its_side = composition._on_its_side, plain
+    try:
+        every = mix.sample(wo, u)
+    finally:
+        composition._on_its_side = original
+    for a, b in zip(s, every, strict=True):
+        assert np.array_equal(a, b)
