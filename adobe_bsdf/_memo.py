@@ -15,7 +15,8 @@ the one ``compute`` gives.
 chose one component, a lobe's support): a later ``once`` on the gathered array takes the rows
 of the value already kept for ``w`` instead of computing it again (the quantities are per
 row, so these are the values ``compute`` would give on the rows). Rows of gathered rows are
-linked to the array first gathered from.
+linked to the array first gathered from, and rows taken of a kept value to that value (the
+rows of a turned ``wo`` find the quantities kept for the whole turned batch).
 """
 
 from __future__ import annotations
@@ -93,7 +94,9 @@ def _gathered(table, owner, name, w):
 
     def take(part):
         if isinstance(part, np.ndarray) and part.ndim >= 1 and part.shape[0] == n:
-            return part.take(index, axis=0)
+            # rows of the kept array, linked to it: what is kept for it (the turned wo of
+            # a ``Rotated`` and its lobe's quantities) serves them in turn
+            return rows(part, index)
         return part  # broadcast over the rows
 
     value = entry[2]

@@ -118,3 +118,48 @@ def test_rows_of_an_array_take_the_rows_of_its_kept_value():
         assert count.calls == 4
     _memo.once(owner, "x", _memo.rows(w, index), pair)
     assert count.calls == 5
+
+
+def test_rows_of_a_kept_value_serve_what_is_kept_for_that_value(monkeypatch):
+    """A value served as rows of the one kept for ``w`` (a ``Rotated`` lobe's turned ``wo``)
+    is itself linked to the kept value: what is kept for the whole turned batch serves its
+    rows. The rotated, anisotropic ASM's diffuse then looks 1 - L up at wo once per
+    chunk in ``sample`` (and at each group's sampled directions), and the samples are the
+    bits they are without the memo."""
+    owner, count = object(), _Counter()
+    w = np.random.default_rng(4).normal(size=(300, 3))
+    index = np.arange(250, 50, -1)
+
+    def turned(w):
+        return w[..., ::-1].copy()
+
+    with _memo.scope():
+        kept = _memo.once(owner, "turn", w, turned)
+        full = _memo.once(owner, "x", kept, count)
+        part = _memo.once(owner, "turn", _memo.rows(w, index), turned)
+        assert _memo.once(owner, "x", part, count).tolist() == full[index].tolist()
+        assert count.calls == 1  # the rows of the turned batch were not computed again
+
+    at = []
+    original = ASMDiffuse._X
+
+    def counted(self, w):
+        at.append(w)
+        return original(self, w)
+
+    material = AdobeStandardMaterial(base_color=(0.8, 0.5, 0.2), roughness=0.4,
+                                     anisotropy_level=0.5, anisotropy_angle=0.3,
+                                     coat_opacity=0.7, sheen_opacity=0.5)
+    rng = np.random.default_rng(1)
+    wo = np.abs(rng.normal(size=(3000, 3)))
+    wo /= np.linalg.norm(wo, axis=-1, keepdims=True)
+    u = rng.random((3000, 3))
+    monkeypatch.setattr(ASMDiffuse, "_X", counted)
+    s = material.sample(wo, u)
+    assert sum(len(w) for w in at) < 2 * len(wo)  # wo once, each sampled direction at most once
+    assert len(at[0]) == len(wo)
+    with monkeypatch.context() as m:
+        m.setattr(_memo, "once", lambda owner, name, w, compute: compute(w))
+        plain = material.sample(wo, u)
+    for a, b in zip(s, plain, strict=True):
+        np.testing.assert_array_equal(a, b)
