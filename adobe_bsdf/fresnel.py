@@ -19,6 +19,7 @@ Public API
                                                        the models above as ``Fresnel`` objects
 ``FresnelFunction(function)``                          any callable cos theta -> reflectance
                                                        as a ``Fresnel``
+``Weighted(fresnel, weight)``                          clamp(weight F, 0, 1) of a model
 
 Shapes: ``cos_theta`` is ``(...)``; the colour models return ``(..., 3)`` with colour
 parameters given as scalars or ``(..., 3)`` arrays. ``dielectric`` returns ``(...)`` for a
@@ -43,7 +44,7 @@ from adobe_bsdf._channels import pick, shifted, tinted, weighted
 
 __all__ = ["dielectric", "conductor", "schlick", "f82", "f82_tint", "COS_THETA_MAX",
            "gulbrandsen_to_ior", "ior_to_gulbrandsen",
-           "ExactConductor", "ExactDielectric", "F82Tint"]
+           "ExactConductor", "ExactDielectric", "F82Tint", "Weighted"]
 
 #: cos of the angle of the Lazányi dip extremum with beta = 6: 1/(beta + 1) [Kutz2021, eq. 2]
 COS_THETA_MAX = 1.0 / 7.0
@@ -422,6 +423,30 @@ class F82Tint(Fresnel):
 
     def from_cos2(self, c2) -> np.ndarray:
         return _f82_tint(np.sqrt(c2), self.f0, self.tint, self.f90, self.exponent)
+
+
+class Weighted(Fresnel):
+    """``fresnel`` times a weight, clamped to [0, 1]: clamp(xi F, 0, 1) (OpenPBR dev_1.2's
+    metal with specular_weight xi above 1 [OpenPBR2026dev, §Metal]); ``(..., 3)`` or grey as
+    ``fresnel``, ``weight`` ``(...)`` in [0, inf)."""
+
+    def __init__(self, fresnel: Fresnel, weight):
+        if not isinstance(fresnel, Fresnel):
+            raise ValueError(f"fresnel = {fresnel!r}: allowed a Fresnel model")
+        self._init(fresnel, _params.real("weight", weight, 0.0, np.inf))
+
+    def _init(self, fresnel, weight):
+        self.fresnel, self.weight = fresnel, weight
+        inner = fresnel.param_shape
+        self.param_shape = None if inner is None else np.broadcast_shapes(inner, weight.shape)
+
+    def __repr__(self) -> str:
+        return f"Weighted({self.fresnel!r}, weight={self.weight})"
+
+    def from_cos2(self, c2) -> np.ndarray:
+        F = self.fresnel.from_cos2(c2)
+        w = self.weight if F.ndim == np.ndim(c2) else self.weight[..., None]
+        return np.clip(w * F, 0.0, 1.0)
 
 
 class ExactDielectric(Fresnel):

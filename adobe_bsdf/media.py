@@ -166,27 +166,35 @@ def openpbr_subsurface_medium(radius, radius_scale, color, g=0.0) -> Medium:
     return Medium(sigma_t - sigma_s, sigma_s, g)
 
 
-def openpbr_transmission_medium(color, depth, scatter=0.0, g=0.0) -> Medium | None:
-    """OpenPBR v1.1.1's translucent-base medium [OpenPBR2026, §Translucent base]: with T =
-    color (raised to ``TRANSMITTANCE_MIN``), d = depth and S = scatter,
+def openpbr_transmission_medium(color, depth, scatter=0.0, g=0.0,
+                                spec: str = "1.1.1") -> Medium | None:
+    """OpenPBR's translucent-base medium [OpenPBR2026, §Translucent base]: with T = color
+    (raised to ``TRANSMITTANCE_MIN``), d = depth and S = scatter, under v1.1.1 (``spec``
+    "1.1.1")
 
         sigma_t = -ln(T) / d,  sigma_s = S / d,  sigma_a = sigma_t - sigma_s,
 
     and where min(sigma_a) < 0 that minimum is subtracted from every channel's sigma_a (the
     specification's shift, which keeps the hue of the scattering). So light that travels d
     through the medium without scattering keeps exp(-sigma_t d) = T (Beer's law) when
-    S <= -ln T in every channel. ``None`` at d = 0, where the specification has no medium and
-    the colour is a tint on the refraction (the material applies it)."""
+    S <= -ln T in every channel. Under the development branch (``spec`` "dev_1.2",
+    [OpenPBR2026dev, §Translucent base]) S is the single-scattering albedo: sigma_s =
+    S sigma_t, sigma_a = (1 - S) sigma_t, with no shift (Beer's law always holds). ``None``
+    at d = 0, where the specification has no medium and the colour is a tint on the
+    refraction (the material applies it)."""
     T = _params.color("color", color, 0.0, 1.0)
     d = _params.real("depth", depth, 0.0, np.inf)
     S = _params.color("scatter", scatter, 0.0, 1.0)
     g = _params.real("g", g, -1.0, 1.0, lo_open=True, hi_open=True)
+    _params.choice("spec", spec, ("1.1.1", "dev_1.2"))
     if np.all(d == 0.0):
         return None
     if np.any(d == 0.0):
         raise ValueError(f"depth = {d[d == 0.0].flat[0]!r} beside positive depths: a texture of "
                          "depths has a medium everywhere or nowhere (allowed: all > 0 or all 0)")
     sigma_t = -np.log(np.maximum(T, TRANSMITTANCE_MIN)) / d[..., None]
+    if spec == "dev_1.2":
+        return Medium((1.0 - S) * sigma_t, S * sigma_t, g)
     sigma_s = S / d[..., None]
     sigma_a = sigma_t - sigma_s
     shift = np.minimum(sigma_a.min(axis=-1, keepdims=True), 0.0)

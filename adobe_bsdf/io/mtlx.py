@@ -4,7 +4,7 @@ in ``docs/materialx.md``).
 
 Public API
 ----------
-``load_mtlx(path, darkening_variant="pr253", haze_model="dev_1.2")``  -> ``MtlxResult``
+``load_mtlx(path, spec=None)``                                        -> ``MtlxResult``
 ``save_mtlx(materials, path, colorspace="lin_rec709")``               -> the path written
 ``MtlxResult``    a read-only mapping {name: ``OpenPBRSurface``}; ``records[name]`` is the
                   ``MtlxMaterial`` with the parameters used, the colour spaces converted and
@@ -12,6 +12,11 @@ Public API
 ``MtlxWarning``   the category of the importer's own warnings (connected inputs, clipped
                   colours, nodedef defaults that differ from the library's)
 ``COLOR_SPACES``  {MaterialX colour space: (colour-science colourspace, decoding)}
+
+The OpenPBR version of a node is the document's where it says one (the node's ``version``,
+else its nodedef's: "1.2" is the development branch, ``spec="dev_1.2"``; earlier ones the
+release, "1.1.1"), else ``load_mtlx``'s ``spec`` (default "1.1.1"); ``save_mtlx`` writes
+``version="1.2"`` on the nodes of a dev_1.2 material.
 
 Reading never evaluates anything of the document: an input connected to a node, a node
 graph or an interface name is replaced by its own ``value`` (or the nodedef's default), with
@@ -39,10 +44,14 @@ import numpy as np
 
 from adobe_bsdf import _params
 from adobe_bsdf.materials.openpbr import PARAMETERS, OpenPBRSurface
+from adobe_bsdf.materials.openpbr.material import versions
+from adobe_bsdf.materials.openpbr.parameters import DEV_1_2
 
 __all__ = ["load_mtlx", "save_mtlx", "MtlxResult", "MtlxMaterial", "MtlxWarning",
            "COLOR_SPACES", "WORKING_SPACE", "CHROMATIC_ADAPTATION", "ROUND_OFF"]
 
+#: the MaterialX version string of the development branch's nodes
+DEV_VERSION = "1.2"
 #: the node category read and written, and its standard declaration
 CATEGORY = "open_pbr_surface"
 NODEDEF = "ND_open_pbr_surface_surfaceshader"
@@ -239,15 +248,19 @@ def _from_working(rgb: np.ndarray, space: str) -> np.ndarray:
 
 
 # -- reading ------------------------------------------------------------------------------------
-def load_mtlx(path, *, darkening_variant: str = "pr253",
-              haze_model: str = "dev_1.2") -> MtlxResult:
+def load_mtlx(path, *, spec: str | None = None, darkening_variant: str | None = None,
+              haze_model: str | None = None) -> MtlxResult:
     """Every ``open_pbr_surface`` of the MaterialX document at ``path``.
 
     Parameters
     ----------
     path : str or Path
-    darkening_variant, haze_model
-        Passed to every ``OpenPBRSurface`` (choices of the library, not MaterialX inputs).
+    spec : one of ``materials.openpbr.SPECS`` or None
+        The OpenPBR version of the nodes whose document says none (None: "1.1.1"); a node
+        whose ``version`` (or its nodedef's) says one follows it, and a ``spec`` against it
+        is a ``ValueError``.
+    darkening_variant, haze_model : deprecated
+        Passed to every ``OpenPBRSurface`` (``OpenPBRSurface``: aliases of ``spec``).
 
     Returns
     -------
@@ -264,9 +277,11 @@ def load_mtlx(path, *, darkening_variant: str = "pr253",
     ValueError
         Naming the file (and the node and input where there is one): malformed XML, no
         ``open_pbr_surface``, a material whose shader is another node type, an input unknown
-        to OpenPBR, a type unlike the nodedef's, an unparsable or out-of-range value, an
-        unknown colour space.
+        to OpenPBR (or of dev_1.2 on a node of the release), a type unlike the nodedef's, an
+        unparsable or out-of-range value, an unknown colour space, a ``spec`` against the
+        document's version.
     """
+    spec, barla = versions(spec, darkening_variant, haze_model, stacklevel=3)
     mx = _materialx()
     path = Path(path)
     if not path.is_file():
@@ -277,7 +292,7 @@ def load_mtlx(path, *, darkening_variant: str = "pr253",
     except (mx.ExceptionParseError, mx.ExceptionFileMissing) as exc:
         raise ValueError(f"{path}: not a readable MaterialX document: {exc}") from exc
     doc.setDataLibrary(_library())
-    options = {"darkening_variant": darkening_variant, "haze_model": haze_model}
+    options = {"spec": spec, "haze_model": "barla2018" if barla else None}
 
     entries = []  # (name, shader node)
     for material in doc.getMaterialNodes():
@@ -358,13 +373,38 @@ def _nodedef(shader, where: str):
                   if nd.getType() == shader.getType()]
     version = shader.getVersionString()
     if version:
-        candidates = [nd for nd in candidates if nd.getVersionString() == version]
+        matching = [nd for nd in candidates if nd.getVersionString() == version]
+        # the development branch's version has no nodedef in MaterialX's libraries: the
+        # release's declares its inputs, dev_1.2's own take the library's defaults
+        candidates = matching or (candidates if _version_spec(version) == "dev_1.2" else [])
     if not candidates:
         raise ValueError(f"{where}: no nodedef declares an {CATEGORY} of type "
                          f"{shader.getType()!r}" + (f" and version {version!r}" if version
                                                     else "") + "; allowed: 'surfaceshader'")
     defaults = [nd for nd in candidates if nd.getDefaultVersion()]
     return (defaults or candidates)[0]
+
+
+def _version_spec(version: str) -> str:
+    """The ``spec`` of a MaterialX version string of OpenPBR: "1.2" and later the development
+    branch, earlier ones the release."""
+    parts = re.findall(r"\d+", version)[:2]
+    major_minor = tuple(int(x) for x in parts) + (0,) * (2 - len(parts))
+    return "dev_1.2" if major_minor >= (1, 2) else "1.1.1"
+
+
+def _node_spec(shader, nodedef, spec, where: str):
+    """The ``spec`` a node follows: its own ``version``, else its nodedef's where that
+    says one, else ``spec`` (None: "1.1.1")."""
+    said = shader.getVersionString() or nodedef.getVersionString()
+    if not said:
+        return spec or "1.1.1"
+    found = _version_spec(said)
+    if spec is not None and spec != found:
+        raise ValueError(f"{where}: the document's OpenPBR version {said!r} is spec = "
+                         f"{found!r}, against spec = {spec!r}: allowed the document's "
+                         "(or pass no spec)")
+    return found
 
 
 def _parse(text: str, type_: str, where: str):
@@ -411,13 +451,18 @@ def _read_shader(shader, path: Path, mx, options):
         messages.append((f"{where}: {text}", category))
 
     nodedef = _nodedef(shader, where)
+    options = dict(options, spec=_node_spec(shader, nodedef, options["spec"], where))
+    inputs = [name for name in PARAMETERS.parameters
+              if options["spec"] != "1.1.1" or name not in DEV_1_2]
     declared = {i.getName(): i for i in nodedef.getActiveInputs()}
-    unknown = [i.getName() for i in shader.getInputs() if i.getName() not in PARAMETERS.parameters]
+    unknown = [i.getName() for i in shader.getInputs() if i.getName() not in inputs]
     if unknown:
-        raise ValueError(f"{where}: input(s) {unknown} unknown to OpenPBR Surface; allowed: "
-                         f"{list(PARAMETERS.parameters)}")
+        dev = [name for name in unknown if name in DEV_1_2]
+        raise ValueError(f"{where}: input(s) {unknown} unknown to OpenPBR Surface"
+                         + (f" 1.1.1 (the node's version; {dev} are dev_1.2's)" if dev
+                            else "") + f"; allowed: {inputs}")
     params, spaces, original = {}, {}, {}
-    for p in PARAMETERS:
+    for p in (PARAMETERS[name] for name in inputs):
         at = f"{where}, input {p.name!r}"
         decl = declared.get(p.name)
         type_ = decl.getType() if decl is not None else _TYPES[p.kind]
@@ -549,6 +594,8 @@ def save_mtlx(materials, path, colorspace: str = WORKING_SPACE) -> Path:
     for name, material in materials.items():
         _check_options(name, material)
         shader = doc.addNode(CATEGORY, f"SR_{name}", "surfaceshader")
+        if material.spec == "dev_1.2":
+            shader.setVersionString(DEV_VERSION)
         for p in PARAMETERS:
             value = material.params.get(p.name)
             if value is None or _same(value, _defaults()[p.name]):
@@ -563,13 +610,10 @@ def save_mtlx(materials, path, colorspace: str = WORKING_SPACE) -> Path:
 
 
 def _check_options(name: str, material) -> None:
-    changed = [f"{k} = {getattr(material, k)!r}"
-               for k, default in (("darkening_variant", "pr253"), ("haze_model", "dev_1.2"))
-               if getattr(material, k) != default]
-    if changed:
-        warnings.warn(f"save_mtlx: material {name!r} has {', '.join(changed)}, a choice of "
-                      "this library that MaterialX does not store: pass it to load_mtlx",
-                      MtlxWarning, stacklevel=3)
+    if material.spec == "dev_1.2" and material.haze_model != "dev_1.2":
+        warnings.warn(f"save_mtlx: material {name!r} has haze_model = "
+                      f"{material.haze_model!r}, a choice of this library that MaterialX "
+                      "does not store: pass it to load_mtlx", MtlxWarning, stacklevel=3)
 
 
 def _format(p, value, colorspace: str, name: str) -> str:

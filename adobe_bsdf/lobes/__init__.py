@@ -19,6 +19,8 @@
 ``HazyGloss(...)``, ``HazyDielectric(...)``                  hazy gloss [Barla2018]
 ``PassThrough()``                                            no interface (a null event)
 ``TintedRefraction(lobe, tint)``                             a DielectricMS, refraction tinted
+``Retroreflective(lobe, weight)``                            reflection mixed with its copy
+                                                             turned back towards the viewer
 ``ThinDielectric(eta, alpha_x, alpha_y=None, transmittance=1)``
                                                              thin translucent sheet, both sides
 
@@ -46,6 +48,7 @@ from adobe_bsdf.lobes.reflection import (
     MicrofacetReflection,
     ReferencedReflection,
 )
+from adobe_bsdf.lobes.retroreflection import Retroreflective
 from adobe_bsdf.lobes.sheen import Sheen
 from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
 from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
@@ -54,4 +57,4 @@ __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection
            "ReferencedReflection", "Dispersive", "ConductorMultipleScattering", "ConductorMS",
            "DielectricMultipleScattering", "DielectricMS", "Sheen", "HazyGloss",
            "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough",
-           "ThinDielectric", "TintedRefraction"]
+           "ThinDielectric", "TintedRefraction", "Retroreflective"]

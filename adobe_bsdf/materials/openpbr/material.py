@@ -1,5 +1,7 @@
-"""OpenPBR Surface v1.1.1 as one BSDF [OpenPBR2026; Andersson2023, §Model] (the parameter
-table and every choice are in ``docs/openpbr.md``).
+"""OpenPBR Surface as one BSDF, following the released v1.1.1 [OpenPBR2026] or, with
+``spec="dev_1.2"``, its development branch [OpenPBR2026dev] (the parameter table, every choice
+and the behaviours that depend on the version are in ``docs/openpbr.md``)
+[Andersson2023, §Model]:
 
     surface     = layer(coated-base, fuzz, fuzz_weight)
     coated-base = layer(base, coat, coat_weight)
@@ -9,7 +11,7 @@ table and every choice are in ``docs/openpbr.md``).
     opaque-base = mix(glossy-diffuse, subsurface, subsurface_weight)
 
 Each mix is ``composition.Mix``; each layer ``composition.Layer`` by albedo scaling, the
-coat's with its view-dependent absorption ("transmittance") and darkening. The glossy-diffuse
+coat's with its absorption ("transmittance") and darkening. The glossy-diffuse
 slab is the dielectric's reflection over the energy-preserving Oren–Nayar diffuse (the
 reflection ``Tinted`` by specular_color), so a white diffuse keeps all the energy
 E_spec + (1 - E_spec) = 1 and a Lambertian one reflects E_diffuse = (1 - E_spec) C. Lobes of
@@ -28,7 +30,7 @@ import numpy as np
 from adobe_bsdf import _params, media
 from adobe_bsdf.composition import Facing, Flipped, Layer, Mix, Rotated, Sum, Tinted
 from adobe_bsdf.darkening import VARIANTS, Darkening
-from adobe_bsdf.fresnel import ExactDielectric, F82Tint
+from adobe_bsdf.fresnel import ExactDielectric, F82Tint, Weighted
 from adobe_bsdf.lobes.energy_lookup import conductor_average
 from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
 from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS, DispersiveMS
@@ -36,20 +38,24 @@ from adobe_bsdf.lobes.ltc_sheen import LTCSheen
 from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.reflection import DielectricReflection, ReferencedReflection
+from adobe_bsdf.lobes.retroreflection import Retroreflective
 from adobe_bsdf.lobes.thin_dielectric import ThinDielectric
 from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 from adobe_bsdf.materials.material import Material
 from adobe_bsdf.materials.openpbr import draft, mapping
-from adobe_bsdf.materials.openpbr.parameters import GATES, PARAMETERS, PLANNED
+from adobe_bsdf.materials.openpbr.parameters import DEV_1_2, GATES, PARAMETERS, PLANNED, SPECS
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.tables import ETA_MAX
 from adobe_bsdf.thin_film import ThinFilm
 
-__all__ = ["OpenPBRSurface", "ETA_RANGE", "HAZE_MODELS"]
+__all__ = ["OpenPBRSurface", "ETA_RANGE", "HAZE_MODELS", "SPECS", "versions"]
 
-#: the specular haze: the development branch's blend of two roughnesses, or the hazy gloss of
-#: [Barla2018]
+#: the specular haze (deprecated ``haze_model``): the development branch's blend of two
+#: roughnesses, or the hazy gloss of [Barla2018]
 HAZE_MODELS = ("dev_1.2", "barla2018")
+#: what each deprecated ``darkening_variant`` and ``haze_model`` now means: the ``spec``
+_ALIASES = {"darkening_variant": {"v1.1.1": "1.1.1", "pr253": "dev_1.2"},
+            "haze_model": {"dev_1.2": "dev_1.2", "barla2018": "dev_1.2"}}
 
 #: relative indices the energy tables hold (dielectric reflection, Kulla–Conty, darkening)
 ETA_RANGE = (1.0 / ETA_MAX, ETA_MAX)
@@ -79,17 +85,18 @@ def _in_tables(name: str, eta) -> None:
 
 
 class OpenPBRSurface(Material):
-    """OpenPBR Surface v1.1.1 [OpenPBR2026] (module docstring): keyword arguments are the
-    specification's 41 inputs (``PARAMETERS``: kind, default, hard and soft range) plus the
-    development branch's ``specular_haze`` and ``specular_haze_spread``; each broadcasts, so
-    a texture of parameters evaluates in one call. The inputs not modelled (``PLANNED``: the
-    normal maps, left to the caller, ``docs/openpbr.md``) are accepted and stored; setting
-    one away from its default warns.
+    """OpenPBR Surface [OpenPBR2026] (module docstring): keyword arguments are the
+    specification's 41 inputs (``PARAMETERS``: kind, default, hard and soft range) and, under
+    ``spec="dev_1.2"``, the four the development branch adds (``DEV_1_2``); each broadcasts,
+    so a texture of parameters evaluates in one call. The inputs not modelled (``PLANNED``:
+    the normal maps, left to the caller, ``docs/openpbr.md``) are accepted and stored;
+    setting one away from its default warns.
 
     Lobes (``lobes`` names the ones built):
     - "metal": ``ConductorMS`` (Kulla–Conty) with ``fresnel.F82Tint`` of F0 = base_weight
-      base_color and tint specular_color at mu_bar = 1/7, times min(specular_weight, 1);
-      its multiple scattering coloured by ``mapping.metal_multiple_scattering``;
+      base_color and tint specular_color at mu_bar = 1/7, times min(specular_weight, 1)
+      (1.1.1) or clamped to [0, 1] after the product (dev_1.2); its multiple scattering
+      coloured by ``mapping.metal_multiple_scattering``;
     - "specular": the dielectric's reflection at the modulated index
       (``mapping.effective_ior``, ``mapping.specular_ior_modulation``), ``Tinted`` by
       specular_color, over "diffuse" (``EnergyPreservingOrenNayar`` of base_weight
@@ -98,38 +105,46 @@ class OpenPBRSurface(Material):
       dispersion, ``TintedRefraction`` by transmission_color at depth 0; thin-walled:
       ``ThinDielectric``);
     - "coat": the coat's reflection (index coat_ior) over the base, with coverage
-      coat_weight, coat_color as the two-way transmittance at normal incidence made view
-      dependent, the base roughened (``mapping.base_roughening``) and darkened
-      (``darkening.Darkening``, ``darkening_variant``);
+      coat_weight, coat_color its two-way transmittance at normal incidence, the base
+      roughened (``mapping.base_roughening``) and darkened (``darkening.Darkening``) as the
+      ``spec`` says (``docs/openpbr.md``, the versions);
     - "fuzz": ``LTCSheen`` of fuzz_roughness, ``Tinted`` by fuzz_color, coverage fuzz_weight;
     - "pass-through": ``PassThrough`` of weight 1 - geometry_opacity (the ambient medium).
     Anisotropy: ``mapping.anisotropic_alphas``, turned to ``geometry_tangent`` (base) and
-    ``geometry_coat_tangent`` (coat).
+    ``geometry_coat_tangent`` (coat). Under dev_1.2, specular_haze blends a rougher copy of
+    the metal and dielectric lobes and specular_retroreflectivity their retroreflective copy
+    (``lobes.Retroreflective``, the reflection only).
 
     Parameters
     ----------
+    spec : one of ``SPECS``
+        "1.1.1" (the default): the released specification [OpenPBR2026], as MaterialX 1.39
+        and Adobe's implementation follow it; "dev_1.2": the development branch
+        [OpenPBR2026dev]: its four inputs, the coat darkening of [Portsmouth2025] (from the
+        naive albedo at coat_darkening 0 to the physical one at 1, ``darkening.Darkening``
+        "dev_1.2"), transmission_scatter as a single-scattering albedo, a metal's
+        specular_weight above 1.
     **params
         The inputs, named as in ``docs/openpbr.md``.
-    darkening_variant : {"pr253", "v1.1.1"}
-        The coat-darkening formula: [Portsmouth2025] (the default: it keeps the naive
-        albedo at coat_darkening = 0 and does not shift the hue of a tinted coat) or
-        v1.1.1's.
-    haze_model : one of ``HAZE_MODELS``
-        What specular_haze (an extension beyond v1.1.1) means: "dev_1.2" (the default) the
-        development branch's (1 - w) f_core + w f_haze; "barla2018" the composite hazy gloss
-        of [Barla2018] (haziness = specular_haze, haze extent = specular_haze_spread).
+    darkening_variant, haze_model : deprecated
+        Aliases of ``spec`` for one release (a ``DeprecationWarning``): darkening_variant
+        "v1.1.1" is spec "1.1.1", "pr253" is "dev_1.2"; haze_model "dev_1.2" is spec
+        "dev_1.2", and "barla2018" the same with specular_haze as the composite hazy gloss of
+        [Barla2018] (haziness = specular_haze, haze extent = specular_haze_spread).
     """
 
     #: the inputs, their ranges and defaults
     parameters = PARAMETERS
 
-    def __init__(self, *, darkening_variant: str = "pr253", haze_model: str = "dev_1.2",
-                 **params):
+    def __init__(self, *, spec: str | None = None, darkening_variant: str | None = None,
+                 haze_model: str | None = None, **params):
+        self.spec, barla = _version(spec, darkening_variant, haze_model, params)
+        self.haze_model = "barla2018" if barla else "dev_1.2"
         p = self.params = PARAMETERS.validate(params)
-        self.darkening_variant = _params.choice("darkening_variant", darkening_variant,
-                                                VARIANTS)
-        self.haze_model = _params.choice("haze_model", haze_model, HAZE_MODELS)
-        self._hazy = _any(p["specular_haze"])
+        if self.spec == "1.1.1":  # dev_1.2's inputs are not the release's
+            for name in DEV_1_2:
+                del p[name]
+        self._hazy = _any(p.get("specular_haze", 0.0))
         self.thin_walled = _thin_walled(p["geometry_thin_walled"])
         self.planned = tuple(name for name in PLANNED if _acts(p, name))
         if self.planned:
@@ -142,7 +157,7 @@ class OpenPBRSurface(Material):
         r = mapping.base_roughening(p["specular_roughness"], p["coat_roughness"], C) \
             if coat else p["specular_roughness"]
         self._roughness = r
-        if self._hazy and self.haze_model == "barla2018" and np.any(r == 0.0):
+        if self._hazy and barla and np.any(r == 0.0):
             raise ValueError("specular_roughness = 0 with specular_haze > 0 and haze_model = "
                              "'barla2018': allowed a roughness in (0, 1] (a smooth core has "
                              "no halo)")
@@ -182,7 +197,7 @@ class OpenPBRSurface(Material):
         return f"OpenPBRSurface(lobes={list(self.lobes)})"
 
     @classmethod
-    def from_draft(cls, *, darkening_variant: str = "pr253", **draft_params):
+    def from_draft(cls, *, spec: str | None = None, **draft_params):
         """The surface of the draft v0.1 inputs [Andersson2023] (``draft.released_parameters``
         maps them; ``draft_differences`` lists where the released formulas differ for these
         values, and a warning says so)."""
@@ -190,7 +205,7 @@ class OpenPBRSurface(Material):
         if differences:
             warnings.warn("OpenPBRSurface.from_draft: " + "; ".join(differences),
                           stacklevel=2)
-        material = cls(darkening_variant=darkening_variant, **params)
+        material = cls(spec=spec, **params)
         material.draft_differences = tuple(differences)
         return material
 
@@ -199,7 +214,8 @@ class OpenPBRSurface(Material):
         """The interior media with their presence weights, ``{name: (weight, Medium)}``:
         "transmission", of weight (1 - M) T, the translucent base's medium
         (``media.openpbr_transmission_medium`` of transmission_color, _depth, _scatter and
-        _scatter_anisotropy; absent at depth 0, where the colour tints the refraction), and
+        _scatter_anisotropy, the scatter as the ``spec`` defines it; absent at depth 0, where
+        the colour tints the refraction), and
         "subsurface", of weight (1 - M)(1 - T) S, ``media.openpbr_subsurface_medium`` of
         subsurface_radius x subsurface_radius_scale, subsurface_color and
         subsurface_scatter_anisotropy [OpenPBR2026, §Subsurface, §Translucent base]. Only
@@ -215,7 +231,8 @@ class OpenPBRSurface(Material):
             m = media.openpbr_transmission_medium(p["transmission_color"],
                                                   p["transmission_depth"],
                                                   p["transmission_scatter"],
-                                                  p["transmission_scatter_anisotropy"])
+                                                  p["transmission_scatter_anisotropy"],
+                                                  spec=self.spec)
             if m is not None:
                 out["transmission"] = (dielectric * T, m)
         if _any(dielectric * (1.0 - T) * S):
@@ -236,7 +253,8 @@ class OpenPBRSurface(Material):
     def emission(self, wo) -> np.ndarray:
         """Emitted radiance towards ``wo``, RGB ``(..., 3)`` in W m^-2 sr^-1
         [OpenPBR2026, §Emission]: ``mapping.emission_radiance`` of emission_luminance and
-        emission_color, uniform over the upper hemisphere (0 below), leaving the substrate
+        emission_color (times emission_weight under dev_1.2 [OpenPBR2026dev, §Emission]),
+        uniform over the upper hemisphere (0 below), leaving the substrate
         through the coat and then the fuzz with the weight each layer gives the light under
         it along ``wo`` (``Layer.exit_weight``: lerp(1, t(wo) (1 - E_top(wo)), w), t the
         coat's one-way view-dependent transmittance sqrt(coat_color)^(1/mu_o^t)), times the
@@ -246,7 +264,8 @@ class OpenPBRSurface(Material):
         if self.thin_walled:
             wo = wo * np.where(wo[..., 2:3] < 0.0, -1.0, 1.0)
         p = self.params
-        Le = mapping.emission_radiance(p["emission_luminance"], p["emission_color"])
+        luminance = p["emission_luminance"] * p.get("emission_weight", 1.0)
+        Le = mapping.emission_radiance(luminance, p["emission_color"])
         Le = np.where((wo[..., 2] > 0.0)[..., None], Le * _c(p["geometry_opacity"]), 0.0)
         for layer in self._layers:
             Le = Le * layer.exit_weight(wo)
@@ -329,14 +348,22 @@ class OpenPBRSurface(Material):
                     *self._alphas(r), **kwargs)
 
     def _metal(self, r, phi):
-        """xi F82-tint conductor with Kulla–Conty multiple scattering [OpenPBR2026, §Metal];
-        with haze, the blend of ``_hazed`` or the hazy gloss of [Barla2018] (Gulbrandsen's
-        exact conductor of F0 and edge tint specular_color; no compensation)."""
+        """xi F82-tint conductor with Kulla–Conty multiple scattering [OpenPBR2026, §Metal]:
+        min(xi, 1) F82 (1.1.1), or clamp(xi F82, 0, 1) (dev_1.2, where some xi > 1: its
+        multiple scattering coloured by min(xi F_avg, 1), within 0.01 of the clamped average
+        [OpenPBR2026dev, §Metal]); with haze, the blend of ``_hazed`` or the hazy gloss of
+        [Barla2018] (Gulbrandsen's exact conductor of F0 and edge tint specular_color; no
+        compensation); with retroreflectivity, ``_retro``."""
         p = self.params
         f0 = _c(p["base_weight"]) * p["base_color"]
         tint = p["specular_color"]
+        xi = p["specular_weight"]
+        boosted = self.spec == "dev_1.2" and np.any(xi > 1.0)
 
         def conductor(fresnel, f_avg):
+            if boosted:
+                fresnel, f_avg = Weighted._new(fresnel, xi), np.minimum(_c(xi) * f_avg, 1.0)
+
             def make(alphas):
                 microfacets = GGX._new(*alphas)
                 f_ms = mapping.metal_multiple_scattering(f_avg, conductor_average(microfacets))
@@ -353,10 +380,16 @@ class OpenPBRSurface(Material):
                 film = ThinFilm.over_f82_tint(d, n_film, f0, tint)
                 lobe = _mix(lobe, self._hazed(conductor(film, _hemispherical_average(film)),
                                               r), w)
-        xi = np.minimum(p["specular_weight"], 1.0)
-        if np.any(xi != 1.0):
-            lobe = Sum._new((lobe,), [_c(xi)])
-        return _turned(lobe, phi)
+        if not boosted and np.any(xi != 1.0):
+            lobe = Sum._new((lobe,), [_c(np.minimum(xi, 1.0))])
+        return _turned(self._retro(lobe), phi)
+
+    def _retro(self, lobe):
+        """``lobe`` mixed with its retroreflective copy by specular_retroreflectivity
+        (``lobes.Retroreflective``: its reflection only) [OpenPBR2026dev,
+        §Retroreflectivity]; the lobe itself where that is 0 (and under 1.1.1)."""
+        w = self.params.get("specular_retroreflectivity", 0.0)
+        return Retroreflective._new(lobe, w) if _any(w) else lobe
 
     def _dielectric(self, eta, r, phi, built):
         """mix(mix(glossy-diffuse, subsurface, S), translucent, T) under one interface; with
@@ -390,7 +423,7 @@ class OpenPBRSurface(Material):
                         lambda alphas: ReferencedReflection._new(
                             DielectricReflection._new(GGX._new(*alphas), _fresnel(eta)),
                             film), r), w)
-            built["specular"] = _turned(reflection, phi)
+            built["specular"] = _turned(self._retro(reflection), phi)
             sigma = p["base_diffuse_roughness"]
             if _any(1.0 - S):
                 rho = _c(p["base_weight"]) * p["base_color"]
@@ -411,7 +444,7 @@ class OpenPBRSurface(Material):
                     eta, *alphas, transmittance=p["transmission_color"]), r)
             else:
                 glass = self._hazed(lambda alphas: self._glass(eta, GGX._new(*alphas)), r)
-            built["transmission"] = _turned(glass, phi)
+            built["transmission"] = _turned(self._retro(glass), phi)
         return _mix(opaque, built.get("transmission"), T)
 
     def _glass(self, eta, microfacets):
@@ -454,7 +487,14 @@ class OpenPBRSurface(Material):
                                                           0.5 * S * (1.0 + g)])
 
     def _coat(self, base, eta_s, built):
-        """The coat over ``base`` [OpenPBR2026, §Coat]."""
+        """The coat over ``base`` [OpenPBR2026, §Coat]: coat_color C_c the two-way
+        transmittance at normal incidence. 1.1.1: made view dependent, C_c^((1/mu_o^t +
+        1/mu_i^t) / 2) (``composition.coat_absorption``), the base darkened by
+        lerp(1, Delta, delta), Delta = (1 - K) / (1 - E_b K), so the tint at normal incidence
+        is C_c whatever coat_darkening. dev_1.2 [Portsmouth2025]: the naive albedo-scaled
+        layer over the base tinted by C_c at coat_darkening 0, E_coat + C_c E_b (1 - E_coat),
+        and the physical transport through the absorbing coat at 1
+        (``darkening.Darkening`` "dev_1.2")."""
         p = self.params
         n_c = p["coat_ior"]
         _in_tables("coat_ior", n_c)
@@ -465,12 +505,15 @@ class OpenPBRSurface(Material):
             p["geometry_coat_tangent"]))
         color = p["coat_color"]
         clear = not np.any(color != 1.0)
+        dev = self.spec == "dev_1.2"
         darkening = None
         if _any(p["coat_darkening"]):
             darkening = Darkening(p["coat_darkening"], self._darkening_roughness(eta_s),
-                                  self.darkening_variant)
+                                  "dev_1.2" if dev else "v1.1.1",
+                                  **({"coat_alpha": p["coat_roughness"] ** 2} if dev else {}))
+        scaling = "albedo" if clear or dev else "transmittance"
         return Layer._new(built["coat"], base, p["coat_weight"], None if clear else color,
-                          "albedo" if clear else "transmittance", darkening)
+                          scaling, darkening)
 
     def _darkening_roughness(self, eta_s):
         """r_b = lerp(r_d, r_m, M), r_d = lerp(1, r, clamp(xi F_s, 0, 1)), r_m = r, with r =
@@ -483,6 +526,43 @@ class OpenPBRSurface(Material):
         t = np.clip(p["specular_weight"] * mapping.reflectance_at_normal(eta_s), 0.0, 1.0)
         r_d = (1.0 - t) + t * r
         return np.clip((1.0 - M) * r_d + M * r, 0.0, 1.0)
+
+
+def versions(spec=None, darkening_variant=None, haze_model=None,
+             stacklevel: int = 2) -> tuple[str | None, bool]:
+    """``(spec, barla)``: the version asked for by ``spec`` or the deprecated aliases (a
+    ``DeprecationWarning`` each, at ``stacklevel`` above the caller; a conflict is a
+    ``ValueError``), None where none says one, and whether specular_haze is the hazy gloss of
+    [Barla2018] (haze_model "barla2018")."""
+    implied = None
+    for name, value in (("darkening_variant", darkening_variant), ("haze_model", haze_model)):
+        if value is None:
+            continue
+        _params.choice(name, value, tuple(_ALIASES[name]))
+        version = _ALIASES[name][value]
+        warnings.warn(f"OpenPBRSurface: {name} = {value!r} is deprecated and goes in the next "
+                      f"release: pass spec = {version!r} (docs/openpbr.md, the versions)",
+                      DeprecationWarning, stacklevel=stacklevel + 1)
+        if version != (spec or implied or version):
+            raise ValueError(f"{name} = {value!r} means spec = {version!r}, against spec = "
+                             f"{spec or implied!r}: allowed one version (pass spec alone)")
+        implied = version
+    if spec is not None:
+        _params.choice("spec", spec, SPECS)
+    return spec or implied, haze_model == "barla2018"
+
+
+def _version(spec, darkening_variant, haze_model, params) -> tuple[str, bool]:
+    """``versions`` for the material of ``params`` ("1.1.1" where none is asked for): under
+    "1.1.1" an input of dev_1.2 alone is refused."""
+    spec, barla = versions(spec, darkening_variant, haze_model, stacklevel=3)
+    spec = spec or "1.1.1"
+    given = [name for name in DEV_1_2 if name in params]
+    if spec == "1.1.1" and given:
+        raise ValueError(f"{given[0]} = {params[given[0]]!r} is an input of dev_1.2, not of "
+                         "OpenPBR 1.1.1 (spec = '1.1.1', the default): allowed with "
+                         "spec = 'dev_1.2'")
+    return spec, barla
 
 
 def _acts(p, name) -> bool:

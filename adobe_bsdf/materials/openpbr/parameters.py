@@ -1,14 +1,16 @@
 """The inputs of OpenPBR Surface: the 41 of the released v1.1.1 [OpenPBR2026, §Parameter
-reference], the two specular-haze inputs of the development branch as an extension, and the
-draft v0.1 inputs [Andersson2023] that ``OpenPBRSurface.from_draft`` maps onto them.
+reference], the four the development branch dev_1.2 adds, and the draft v0.1 inputs
+[Andersson2023] that ``OpenPBRSurface.from_draft`` maps onto them.
 
 Public API
 ----------
-``PARAMETERS``        ``spec.ParameterSpec`` of the released inputs (+ the haze extension)
+``PARAMETERS``        ``spec.ParameterSpec`` of the released inputs and dev_1.2's four
+``SPECS``             the versions ``OpenPBRSurface(spec=...)`` follows: "1.1.1", "dev_1.2"
+``DEV_1_2``           the inputs of dev_1.2 alone (refused under spec "1.1.1")
 ``DRAFT_PARAMETERS``  ``spec.ParameterSpec`` of the draft's inputs (names, defaults, ranges)
 ``STATUS``            ``{name: (status, how)}`` for both: "implemented", "implemented with a
                       documented choice", "planned" (accepted, stored; a warning when set
-                      away from its default), "extension" (beyond v1.1.1) or "removed"
+                      away from its default), "dev_1.2" (under spec "dev_1.2") or "removed"
                       (draft inputs with no released counterpart)
 ``PLANNED``           the released inputs accepted but not yet modelled
 ``GATES``             ``{planned input: the weight without which it has no effect}``
@@ -19,7 +21,12 @@ from __future__ import annotations
 
 from adobe_bsdf.materials.spec import Parameter, ParameterSpec, _number
 
-__all__ = ["PARAMETERS", "DRAFT_PARAMETERS", "STATUS", "PLANNED", "GATES", "status_markdown"]
+__all__ = ["PARAMETERS", "SPECS", "DEV_1_2", "DRAFT_PARAMETERS", "STATUS", "PLANNED", "GATES",
+           "status_markdown"]
+
+#: the versions of the specification the surface follows: the release [OpenPBR2026] (the
+#: default) and its development branch [OpenPBR2026dev]
+SPECS = ("1.1.1", "dev_1.2")
 
 _UNIT = (0.0, 1.0)
 _INF = float("inf")
@@ -33,7 +40,7 @@ def _p(name, kind, default, hard, soft=None, doc="", lo_open=False):
 
 
 #: OpenPBR Surface v1.1.1: names, kinds, defaults, hard and soft ranges of its parameter
-#: reference (the MaterialX nodedef's order), and the haze inputs of the development branch
+#: reference (the MaterialX nodedef's order), and the inputs of the development branch
 PARAMETERS = ParameterSpec(
     _p("base_weight", "real", 1.0, _UNIT, doc="multiplier of base_color (metal F0, diffuse ρ)"),
     _p("base_color", "color", 0.8, _UNIT, doc="metal F0; albedo of the glossy-diffuse base"),
@@ -83,11 +90,18 @@ PARAMETERS = ParameterSpec(
     _p("geometry_coat_normal", "vector", _NORMAL, None, doc="shading normal of the coat"),
     _p("geometry_coat_tangent", "vector", _TANGENT, None,
        doc="anisotropy direction of the coat, local frame"),
-    # beyond v1.1.1: the development branch's specular haze
+    # dev_1.2 only (``DEV_1_2``)
     _p("specular_haze", "real", 0.0, _UNIT, doc="weight of a second, rougher base lobe"),
     _p("specular_haze_spread", "real", 0.3, _UNIT,
        doc="haze roughness lerp(specular_roughness, 1, spread)"),
+    _p("specular_retroreflectivity", "real", 0.0, _UNIT,
+       doc="weight of the retroreflective copy of the metal's and dielectric's reflection"),
+    _p("emission_weight", "real", 0.0, _UNIT, doc="multiplier of the emission"),
 )
+
+#: the inputs dev_1.2 adds [OpenPBR2026dev, §Parameter reference]: refused under spec "1.1.1"
+DEV_1_2 = ("specular_haze", "specular_haze_spread", "specular_retroreflectivity",
+           "emission_weight")
 
 #: the inputs of the v0.1 draft [Andersson2023, parameter tables] (its own defaults and
 #: ranges; its ranges with an open upper end, [0, 1), are written closed here: a value is
@@ -142,8 +156,8 @@ STATUS = {
     "base_color": (_DONE, "`fresnel.F82Tint` F0; `lobes.EON` ρ"),
     "base_diffuse_roughness": (_DONE, "σ of `lobes.EON` (energy-preserving Oren–Nayar)"),
     "base_metalness": (_DONE, "`composition.Mix` of dielectric and metal"),
-    "specular_weight": (_DONE, "`specular_ior_modulation` (dielectric); min(ξ, 1) × F82 "
-                               "(metal)"),
+    "specular_weight": (_CHOICE, "`specular_ior_modulation` (dielectric); metal: "
+                                 "min(ξ, 1) × F82 (1.1.1), clamp(ξ F82, 0, 1) (dev_1.2)"),
     "specular_color": (_CHOICE, "metal: F82 tint at μ̄ = 1/7; dielectric: `Tinted` reflection "
                                 "of the opaque base (the layer below sees the untinted "
                                 "remainder); the translucent base's reflection is not tinted"),
@@ -157,8 +171,8 @@ STATUS = {
                                   "medium's Beer's law (`medium()`); thin walls: the sheet's "
                                   "transmittance"),
     "transmission_depth": (_DONE, "`media.openpbr_transmission_medium` (`medium()`)"),
-    "transmission_scatter": (_CHOICE, "σ_s = S/d; the negative-absorption shift of v1.1.1 "
-                                      "(not dev_1.2's single-scattering albedo)"),
+    "transmission_scatter": (_CHOICE, "1.1.1: σ_s = S/d with the negative-absorption shift; "
+                                      "dev_1.2: the single-scattering albedo, σ_s = S σ_t"),
     "transmission_scatter_anisotropy": (_DONE, "HG g of the translucent medium"),
     "transmission_dispersion_scale": (_DONE, "V_d = abbe / scale: `lobes.Dispersive` and a "
                                              "Kulla–Conty term per channel (bulk only)"),
@@ -180,8 +194,9 @@ STATUS = {
     "coat_roughness_anisotropy": (_DONE, "`anisotropic_alphas` of the coat"),
     "coat_ior": (_CHOICE, "coat reflection over the ambient (n_a = 1); the tables limit it to "
                           "[1/3, 3]"),
-    "coat_darkening": (_CHOICE, "`darkening.Darkening`: the naive-albedo-preserving form of "
-                                "[Portsmouth2025] by default, v1.1.1's as an option"),
+    "coat_darkening": (_CHOICE, "`darkening.Darkening`: 1.1.1's Δ = (1 − K)/(1 − E_b K); "
+                                "dev_1.2: lerp from the naive albedo to the physical one "
+                                "[Portsmouth2025], Δ from the transport through the coat"),
     "fuzz_weight": (_DONE, "F of F f_fuzz + (1 − F E_fuzz) f_below"),
     "fuzz_color": (_DONE, "`Tinted` LTC sheen: E_fuzz white for the layer below"),
     "fuzz_roughness": (_DONE, "α of `lobes.LTCSheen`"),
@@ -207,9 +222,14 @@ STATUS = {
     "geometry_coat_normal": (_PLANNED, "a shading normal of the coat: left to the caller "
                                        "(docs/openpbr.md, Inputs not yet modelled)"),
     "geometry_coat_tangent": (_DONE, "`composition.Rotated` by its azimuth"),
-    "specular_haze": ("extension", "dev_1.2: (1 − w) f_core + w f_haze on metal and dielectric "
-                                   "base, each compensated"),
-    "specular_haze_spread": ("extension", "dev_1.2: r_haze = lerp(r, 1, spread)"),
+    "specular_haze": ("dev_1.2", "(1 − w) f_core + w f_haze on metal and dielectric base, each "
+                                 "compensated"),
+    "specular_haze_spread": ("dev_1.2", "r_haze = lerp(r, 1, spread)"),
+    "specular_retroreflectivity": ("dev_1.2", "(1 − w) f_R + w f_R(reflect(ω_i, n), ω_o) of the "
+                                              "metal and the dielectric's reflection "
+                                              "(`lobes.Retroreflective`); not the BTDF"),
+    "emission_weight": ("dev_1.2", "multiplier of emission_color × emission_luminance "
+                                   "(1.1.1 has no such input: it emits fully)"),
     # draft names without a released counterpart (``from_draft`` maps them)
     "base_roughness": ("renamed", "base_diffuse_roughness"),
     "specular_ior_level": ("removed", "ξ = 2 level scales F0: specular_weight = 2 level with "
