@@ -68,9 +68,7 @@ def _wo(mu, phi=0.7):
 
 
 def _material(params):
-    p = dict(params)
-    return OpenPBRSurface(darkening_variant=p.pop("darkening_variant", "pr253"),
-                          haze_model=p.pop("haze_model", "dev_1.2"), **p)
+    return OpenPBRSurface(**params)
 
 
 def _albedo(material, wo):

@@ -25,6 +25,7 @@ TABLES = {
         openpbr.PARAMETERS)),
     "OpenPBRDraft": ("openpbr.md", lambda: openpbr.parameters.status_markdown(
         openpbr.DRAFT_PARAMETERS)),
+    "OpenPBRVersions": ("openpbr.md", openpbr.parameters.versions_markdown),
 }
 #: the page of each table
 PAGES = {name: page for name, (page, _) in TABLES.items()}

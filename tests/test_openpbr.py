@@ -54,7 +54,7 @@ def test_white_furnace(slab, top, r, a):
     np.testing.assert_allclose(E, 1.0, atol=FURNACE)
 
 
-HAZE = dict(specular_haze=0.5, specular_haze_spread=0.6)
+HAZE = dict(spec="dev_1.2", specular_haze=0.5, specular_haze_spread=0.6)
 
 
 @pytest.mark.parametrize("slab", ["metal", "diffuse sigma=0.5", "glass"])
@@ -70,17 +70,20 @@ def test_white_furnace_with_the_development_branch_haze(slab, r):
 
 def test_haze_of_weight_zero_is_no_haze():
     wo, wi = ab.frame.normalize(np.random.default_rng(4).normal(size=(2, 200, 3)))
-    for model in ("dev_1.2", "barla2018"):
-        hazy = OpenPBRSurface(base_metalness=0.5, specular_haze=0.0, haze_model=model)
-        np.testing.assert_array_equal(hazy.eval(wo, wi), OpenPBRSurface(base_metalness=0.5)
-                                      .eval(wo, wi))
+    plain = OpenPBRSurface(base_metalness=0.5).eval(wo, wi)
+    hazy = OpenPBRSurface(base_metalness=0.5, spec="dev_1.2", specular_haze=0.0)
+    np.testing.assert_array_equal(hazy.eval(wo, wi), plain)
+    with pytest.warns(DeprecationWarning, match="haze_model"):
+        barla = OpenPBRSurface(base_metalness=0.5, specular_haze=0.0, haze_model="barla2018")
+    np.testing.assert_array_equal(barla.eval(wo, wi), plain)
 
 
 def test_haze_is_the_blend_of_two_roughnesses():
     """(1 - w) f(r) + w f(lerp(r, 1, spread)) on the metal [dev_1.2 §Specular haze]."""
     wo, wi = ab.frame.normalize(np.random.default_rng(5).normal(size=(2, 200, 3)))
     p = dict(base_metalness=1.0, base_color=(0.9, 0.6, 0.5), specular_roughness=0.2)
-    hazy = OpenPBRSurface(**p, specular_haze=0.3, specular_haze_spread=0.5).eval(wo, wi)
+    hazy = OpenPBRSurface(**p, spec="dev_1.2", specular_haze=0.3,
+                          specular_haze_spread=0.5).eval(wo, wi)
     core = OpenPBRSurface(**p).eval(wo, wi)
     wide = OpenPBRSurface(**dict(p, specular_roughness=0.6)).eval(wo, wi)
     np.testing.assert_allclose(hazy, 0.7 * core + 0.3 * wide, rtol=1e-12, atol=1e-300)
@@ -172,9 +175,7 @@ CHI2_CASES = [(name, c) for name in MATERIALS for c in (0.8, 0.3, -0.6)
 
 
 def _material(name):
-    p = dict(MATERIALS[name])
-    return OpenPBRSurface(darkening_variant=p.pop("darkening_variant", "pr253"),
-                          haze_model=p.pop("haze_model", "dev_1.2"), **p)
+    return OpenPBRSurface(**MATERIALS[name])
 
 
 @pytest.mark.parametrize(("name", "cos_theta"), CHI2_CASES)

@@ -56,7 +56,8 @@ def test_dispersive_glass_sampling(cos_theta):
 
 def test_dispersion_needs_one_index_model():
     with pytest.raises(ValueError, match="transmission_dispersion_scale"):
-        OpenPBRSurface(**GLASS, **DISPERSION, specular_haze=0.3, haze_model="barla2018")
+        with pytest.warns(DeprecationWarning):
+            OpenPBRSurface(**GLASS, **DISPERSION, specular_haze=0.3, haze_model="barla2018")
 
 
 def test_dispersion_beyond_the_tables_names_the_inputs():

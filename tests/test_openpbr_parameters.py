@@ -14,6 +14,7 @@ from scipy import integrate
 from adobe_bsdf import fresnel
 from adobe_bsdf.materials import MATERIALS
 from adobe_bsdf.materials.openpbr import (
+    DEV_1_2,
     DRAFT_PARAMETERS,
     PARAMETERS,
     PLANNED,
@@ -71,7 +72,8 @@ def test_spec_has_the_41_released_inputs_with_their_defaults_and_ranges():
             assert p.default == default, p.name
         assert p.hard == (None if hard is None else tuple(float(v) for v in hard)), p.name
         assert p.lo_open == lo_open, p.name
-    assert {p.name for p in PARAMETERS} - set(V111) == {"specular_haze", "specular_haze_spread"}
+    assert {p.name for p in PARAMETERS} - set(V111) == set(DEV_1_2) == {
+        "specular_haze", "specular_haze_spread", "specular_retroreflectivity", "emission_weight"}
 
 
 def test_every_input_has_a_status():

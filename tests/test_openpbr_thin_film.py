@@ -79,4 +79,5 @@ def test_the_translucent_base_warns_and_the_hazy_gloss_refuses():
     with pytest.warns(UserWarning, match="thin film is not applied to the translucent"):
         OpenPBRSurface(transmission_weight=0.5, **FILM)
     with pytest.raises(ValueError, match="thin_film_weight"):
-        OpenPBRSurface(specular_haze=0.5, haze_model="barla2018", **FILM)
+        with pytest.warns(DeprecationWarning):
+            OpenPBRSurface(specular_haze=0.5, haze_model="barla2018", **FILM)

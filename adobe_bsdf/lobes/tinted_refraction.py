@@ -1,4 +1,5 @@
-"""A rough dielectric whose refracted light is tinted: f = f_R + t f_T."""
+"""A rough dielectric whose refracted light is tinted, and optionally its reflection:
+f = r f_R + t f_T."""
 
 from __future__ import annotations
 
@@ -14,38 +15,53 @@ from adobe_bsdf.lobes.reflection import DielectricReflection
 
 __all__ = ["TintedRefraction"]
 
-_T = int(Flags.TRANSMISSION)
+_T, _REFLECTED = int(Flags.TRANSMISSION), int(Flags.REFLECTION)
 
 
 class TintedRefraction(Wrapper):
     """``DielectricMS`` (or ``DispersiveMS``, channel by channel) with every refraction
-    multiplied by the colour ``tint``, f = f_R + t f_T: a constant tint on the refraction of
-    an interface with no medium behind it [OpenPBR2026, §Translucent base]; t = 1 is the
-    lobe.
+    multiplied by the colour ``tint``, f = r f_R + t f_T: a constant tint on the refraction
+    of an interface with no medium behind it [OpenPBR2026, §Translucent base]; t = 1 is the
+    lobe. The reflection is multiplied by ``reflection_tint`` r, from above only
+    (specular_color of OpenPBR v1.1.1, "the first reflection from above") or, with
+    ``reflection_below``, from both sides (its development branch: the whole BRDF
+    [OpenPBR2026dev, §Dielectric base]); r = 1 leaves it.
 
-    Reflection pairs (both directions on one side) are the lobe's, refraction pairs and
-    refracted samples are multiplied by t; pdfs and sampled directions are the lobe's, so
-    sampling stays exact. The energy splits into what the lobe reflects, E_R, and what it
-    refracts, E_T: E = E_R + t E_T, with E_R the single-scattering reflection of the
+    Refraction pairs and refracted samples are multiplied by t, reflection pairs (both
+    directions on one side) and reflected samples by r where it applies; pdfs and sampled
+    directions are the lobe's, so sampling stays exact. The energy splits into what the lobe
+    reflects, E_R, and what it refracts, E_T: E = r E_R + t E_T, with E_R the
+    single-scattering reflection of the
     interface (``DielectricReflection`` of the same index and microfacets: its tables, or its
     exact Fresnel where smooth) plus the Kulla–Conty term's reflected share (its reflection
     probability times its albedo 1 - E_s), and E_T the rest of the lobe's albedo. A tint
     <= 1 never adds energy; the tinted lobe is reciprocal where the lobe is (t multiplies
-    both directions of a refraction pair alike).
+    both directions of a refraction pair alike, r both of a reflection pair; r from above
+    only tints the pairs above, which are each other's reverse).
 
     Parameters
     ----------
     lobe : DielectricMS or DispersiveMS
     tint : colour in [0, 1]
+    reflection_tint : colour in [0, 1]
+    reflection_below : bool
     """
 
-    def __init__(self, lobe: DielectricMS | DispersiveMS, tint):
+    def __init__(self, lobe: DielectricMS | DispersiveMS, tint, reflection_tint=1.0,
+                 reflection_below: bool = False):
         if not isinstance(lobe, (DielectricMS, DispersiveMS)):
             raise ValueError(f"lobe = {lobe!r}: allowed a DielectricMS or a DispersiveMS")
-        self._init(lobe, _params.color("tint", tint, 0.0, 1.0))
+        self._init(lobe, _params.color("tint", tint, 0.0, 1.0),
+                   _params.color("reflection_tint", reflection_tint, 0.0, 1.0),
+                   bool(reflection_below))
 
-    def _init(self, lobe, tint):
+    def _init(self, lobe, tint, reflection_tint=None, reflection_below=False):
         self.lobe, self.tint = lobe, tint
+        #: r (None: 1, the reflection untouched) and whether it tints from below too
+        self.reflection_tint = (None if reflection_tint is None
+                                or not np.any(np.asarray(reflection_tint) != 1.0)
+                                else np.asarray(reflection_tint, dtype=np.float64))
+        self.reflection_below = reflection_below
         self.flags = lobe.flags
         single = lobe.components[0]
         if isinstance(lobe, DispersiveMS):  # channel c: its index and its own term
@@ -60,20 +76,34 @@ class TintedRefraction(Wrapper):
             for eta in etas]
 
     def __repr__(self) -> str:
-        return f"TintedRefraction({self.lobe!r}, tint={self.tint!r})"
+        extra = ("" if self.reflection_tint is None else
+                 f", reflection_tint={self.reflection_tint!r}, "
+                 f"reflection_below={self.reflection_below}")
+        return f"TintedRefraction({self.lobe!r}, tint={self.tint!r}{extra})"
 
     def _inner(self):
         return self.lobe
 
     def _param_shape(self):
         shape = self.lobe._param_shape()
-        return None if shape is None else np.broadcast_shapes(shape, self.tint.shape[:-1])
+        if shape is None:
+            return None
+        r = () if self.reflection_tint is None else self.reflection_tint.shape[:-1]
+        return np.broadcast_shapes(shape, self.tint.shape[:-1], r)
 
-    # -- f: the tint on refraction pairs --------------------------------------------------
+    # -- f: the tints on refraction and reflection pairs ----------------------------------
+    def _reflection_tinted(self, wo):
+        """Where a reflection at ``wo`` is tinted by r: every side, or wo above."""
+        return np.full(wo.shape[:-1], True) if self.reflection_below else wo[..., 2] > 0.0
+
     def _tinted(self, f, wo, wi):
         zo, zi = wo[..., 2], wi[..., 2]
         across = ((zo < 0.0) != (zi < 0.0)) & (zo != 0.0) & (zi != 0.0)  # signs: no underflow
-        return selected(across, scaled(f, self.tint), f)
+        out = selected(across, scaled(f, self.tint), f)
+        if self.reflection_tint is None:
+            return out
+        return np.where((~across & self._reflection_tinted(wo))[..., None],
+                        out * self.reflection_tint, out)
 
     def _eval(self, wo, wi):
         return self._tinted(self.lobe._eval(wo, wi), wo, wi)
@@ -88,12 +118,19 @@ class TintedRefraction(Wrapper):
 
     def _from_inner(self, sample, wo):
         refracted = (sample.flags & _T) != 0
-        return BSDFSample(sample.wi, selected(refracted, scaled(sample.weight, self.tint),
-                                              sample.weight), sample.pdf, sample.flags)
+        weight = selected(refracted, scaled(sample.weight, self.tint), sample.weight)
+        if self.reflection_tint is not None:
+            reflected = ((sample.flags & _REFLECTED) != 0) & self._reflection_tinted(wo)
+            weight = np.where(reflected[..., None], weight * self.reflection_tint, weight)
+        return BSDFSample(sample.wi, weight, sample.pdf, sample.flags)
 
-    # -- the energy: E_R + t E_T ----------------------------------------------------------
-    def _split(self, E, E_R):
-        return E_R + self.tint * np.maximum(E - E_R, 0.0)
+    # -- the energy: r E_R + t E_T --------------------------------------------------------
+    def _split(self, E, E_R, wo):
+        E_T = self.tint * np.maximum(E - E_R, 0.0)
+        if self.reflection_tint is None:
+            return E_R + E_T
+        r = np.where(self._reflection_tinted(wo)[..., None], self.reflection_tint, 1.0)
+        return r * E_R + E_T
 
     def _per_channel(self, parts):
         """Channel c of the c-th of ``parts`` (one part: itself)."""
@@ -117,7 +154,7 @@ class TintedRefraction(Wrapper):
         """A smooth interface reflects F(wo) (``DielectricReflection``'s delta, total
         internal reflection included) and refracts the rest of its delta energy; a
         pass-through only refracts."""
-        return self._split(self.lobe._delta_albedo(wo), self._seen("_delta_albedo", wo))
+        return self._split(self.lobe._delta_albedo(wo), self._seen("_delta_albedo", wo), wo)
 
     def _reflected(self, wo):
         """E_R(wo): the interface's reflection (its table, or its exact Fresnel where smooth)
@@ -131,7 +168,7 @@ class TintedRefraction(Wrapper):
 
     def _albedo_table(self, wo, with_error=True):
         E, error = self.lobe._albedo_table(wo, with_error)
-        return np.minimum(self._split(E, np.minimum(self._reflected(wo), E)), E), error
+        return np.minimum(self._split(E, np.minimum(self._reflected(wo), E), wo), E), error
 
     def _top_albedo(self, wo):
         return self._albedo_table(wo, with_error=False)[0]

@@ -152,13 +152,16 @@ openpbr = {
                                   "coat_roughness": 0.2},
     "subsurface half": {"subsurface_weight": 0.5, "subsurface_color": (0.9, 0.6, 0.4),
                         "base_diffuse_roughness": 0.3},
-    "half metal, coat, fuzz, v1.1.1 darkening": {
+    "half metal, coat, fuzz": {
         "base_metalness": 0.5, "base_color": (0.6, 0.5, 0.4), "specular_roughness": 0.3,
         "coat_weight": 0.7, "coat_roughness": 0.1, "fuzz_weight": 0.4, "fuzz_roughness": 0.3,
-        "base_diffuse_roughness": 0.5, "darkening_variant": "v1.1.1"},
-    "dev_1.2 haze, glass": {"transmission_weight": 1.0, "specular_roughness": 0.1, **_HAZE},
-    "Barla haze, half metal": {"base_metalness": 0.5, "base_color": (0.9, 0.7, 0.3),
-                               "specular_roughness": 0.15, "haze_model": "barla2018", **_HAZE},
+        "base_diffuse_roughness": 0.5},
+    "dev_1.2 haze, glass": {"spec": "dev_1.2", "transmission_weight": 1.0,
+                            "specular_roughness": 0.1, **_HAZE},
+    "dev_1.2 haze, retroreflective half metal, tinted coat": {
+        "spec": "dev_1.2", "base_metalness": 0.5, "base_color": (0.9, 0.7, 0.3),
+        "specular_roughness": 0.15, "specular_retroreflectivity": 0.4,
+        "coat_weight": 1.0, "coat_roughness": 0.2, "coat_color": (0.8, 0.9, 0.6), **_HAZE},
     "everything": {"base_metalness": 0.3, "transmission_weight": 0.4, "subsurface_weight": 0.3,
                    "base_diffuse_roughness": 0.6, "specular_roughness": 0.35,
                    "specular_roughness_anisotropy": 0.4, "coat_weight": 0.5,

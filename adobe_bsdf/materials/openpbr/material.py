@@ -451,7 +451,8 @@ class OpenPBRSurface(Material):
         """The bulk translucent base: ``DielectricMS`` at ``eta``, its refraction tinted by
         transmission_color where transmission_depth is 0 (``lobes.TintedRefraction``: "a
         constant tint on the refraction", [OpenPBR2026, §Translucent base]; at depth > 0 the
-        colour is the medium's, ``media()``).
+        colour is the medium's, ``media()``), its reflection by specular_color: from above
+        (1.1.1, [OpenPBR2026, §Dielectric base]) or from both sides (dev_1.2).
 
         With dispersion [OpenPBR2026, §Dispersion]: V_d = transmission_dispersion_abbe_number
         / transmission_dispersion_scale, n_d = ``eta`` (the modulated index), one index per
@@ -461,6 +462,7 @@ class OpenPBRSurface(Material):
         p = self.params
         T = p["transmission_color"]
         tint = np.where((p["transmission_depth"] == 0.0)[..., None], T, 1.0)
+        color = p["specular_color"]
 
         if not _any(p["transmission_dispersion_scale"]):
             lobe = DielectricMS._new(eta, microfacets)
@@ -473,7 +475,9 @@ class OpenPBRSurface(Material):
             except ValueError as error:  # a channel's index at 1 or below, or out of tables
                 raise ValueError(f"{names} = V_d {np.min(20.0 / D)!r}: {error}") from None
             _in_tables(f"{names} (the channels' Cauchy indices)", lobe.eta)
-        return TintedRefraction._new(lobe, tint) if np.any(tint != 1.0) else lobe
+        if not (np.any(tint != 1.0) or np.any(color != 1.0)):
+            return lobe
+        return TintedRefraction._new(lobe, tint, color, self.spec == "dev_1.2")
 
     def _thin_subsurface(self, sigma):
         """The thin-walled subsurface [OpenPBR2026, §Thin-walled mode]: f_R = S (1 - g) / 2 f_+

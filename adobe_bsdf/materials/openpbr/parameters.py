@@ -15,6 +15,8 @@ Public API
 ``PLANNED``           the released inputs accepted but not yet modelled
 ``GATES``             ``{planned input: the weight without which it has no effect}``
 ``status_markdown(spec)``  the ``docs/openpbr.md`` table of ``spec`` with each input's status
+``VERSIONS``          ``{behaviour: (under "1.1.1", under "dev_1.2")}``: what ``spec`` changes
+``versions_markdown()``   that table for ``docs/openpbr.md``
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from __future__ import annotations
 from adobe_bsdf.materials.spec import Parameter, ParameterSpec, _number
 
 __all__ = ["PARAMETERS", "SPECS", "DEV_1_2", "DRAFT_PARAMETERS", "STATUS", "PLANNED", "GATES",
-           "status_markdown"]
+           "status_markdown", "VERSIONS", "versions_markdown"]
 
 #: the versions of the specification the surface follows: the release [OpenPBR2026] (the
 #: default) and its development branch [OpenPBR2026dev]
@@ -160,7 +162,9 @@ STATUS = {
                                  "min(ξ, 1) × F82 (1.1.1), clamp(ξ F82, 0, 1) (dev_1.2)"),
     "specular_color": (_CHOICE, "metal: F82 tint at μ̄ = 1/7; dielectric: `Tinted` reflection "
                                 "of the opaque base (the layer below sees the untinted "
-                                "remainder); the translucent base's reflection is not tinted"),
+                                "remainder); the translucent base's reflection "
+                                "(`lobes.TintedRefraction`) from above (1.1.1) or both sides "
+                                "(dev_1.2); not the thin-walled sheet's"),
     "specular_roughness": (_DONE, "`anisotropic_alphas`; under a coat `base_roughening`"),
     "specular_roughness_anisotropy": (_DONE, "`anisotropic_alphas`"),
     "specular_ior": (_CHOICE, "`effective_ior` (coat blend, TIR fix); the energy tables "
@@ -268,4 +272,46 @@ def status_markdown(spec: ParameterSpec) -> str:
         soft = "—" if p.soft is None else Parameter(p.name, "real", 0.0, p.soft).range_text
         rows.append(f"| `{p.name}` | {p.kind} | {_number(p.default)} | {p.range_text} | {soft} "
                     f"| {status} | {how} |")
+    return "\n".join(rows) + "\n"
+
+
+#: every behaviour of the surface that depends on ``spec``: {behaviour: (under "1.1.1" (the
+#: default) [OpenPBR2026], under "dev_1.2" [OpenPBR2026dev])}
+VERSIONS = {
+    "coat_color": (
+        "two-way transmittance at normal incidence, made view dependent: "
+        "T^((1/μ_o^t + 1/μ_i^t)/2) (`Layer(scaling=\"transmittance\")`); the tint "
+        "(f_c − f_s)/(f_1 − f_s) at normal incidence is coat_color exactly",
+        "T² = coat_color multiplies the base (PR 253's albedo scaling of the tinted base); "
+        "the view dependence comes from the physical darkening"),
+    "coat_darkening": (
+        "Δ = (1 − K)/(1 − E_b K), base × lerp(1, Δ, δ) (`Darkening(variant=\"v1.1.1\")`)",
+        "δ = 0: the naive albedo E_coat + T² E_b (1 − E_coat); δ = 1: the physical albedo of "
+        "the light bouncing in the absorbing coat [Portsmouth2025] "
+        "(`Darkening(variant=\"dev_1.2\")`)"),
+    "transmission_scatter": (
+        "σ_s = S/d, the negative-absorption shift",
+        "single-scattering albedo: σ_s = S σ_t, σ_a = (1 − S) σ_t"),
+    "specular_weight ξ on a metal": (
+        "min(ξ, 1) × F82", "clamp(ξ F82, 0, 1), ξ above 1 allowed"),
+    "specular_color on the translucent base": (
+        "tints its reflection from above", "tints its reflection from both sides"),
+    "specular_haze, specular_haze_spread": (
+        "refused (not inputs of 1.1.1)",
+        "(1 − w) f_core + w f_haze, r_haze = lerp(r, 1, spread)"),
+    "specular_retroreflectivity": (
+        "refused", "(1 − w) f_R + w f_R(reflect(ω_i, n), ω_o) on the metal and the "
+                   "dielectric's reflection (`lobes.Retroreflective`)"),
+    "emission_weight": (
+        "refused; the emission is emission_color × emission_luminance",
+        "multiplies the emission (default 0, as the branch's parameter table)"),
+    ".mtlx": ("nodes without a version, or of version < 1.2",
+              "nodes of version 1.2 (`save_mtlx` writes it)"),
+}
+
+
+def versions_markdown() -> str:
+    """The table of ``VERSIONS`` for ``docs/openpbr.md``."""
+    rows = ["| behaviour | `spec=\"1.1.1\"` (default) | `spec=\"dev_1.2\"` |", "|---|---|---|"]
+    rows += [f"| {name} | {a} | {b} |" for name, (a, b) in VERSIONS.items()]
     return "\n".join(rows) + "\n"
