@@ -38,9 +38,11 @@ save_mtlx({"Gold": material}, "copy.mtlx")                 # lin_rec709, exact r
 save_mtlx(material, "aces.mtlx", colorspace="acescg")      # one material, named "material"
 ```
 
-- `load_mtlx(path, darkening_variant="pr253", haze_model="dev_1.2")`: every
-  `open_pbr_surface` of the document; the two options are passed to `OpenPBRSurface` (they
-  are choices of this library, not MaterialX inputs).
+- `load_mtlx(path, spec=None)`: every `open_pbr_surface` of the document, each following the
+  OpenPBR version its document says (the node's `version`, else its nodedef's: 1.2 is
+  `spec="dev_1.2"`, earlier ones the release "1.1.1"), else `spec` (None: "1.1.1"); a
+  `spec` against the document's version raises. The deprecated `darkening_variant` and
+  `haze_model` of `OpenPBRSurface` are passed on for one release.
 - `MtlxResult`: a read-only mapping {name: `OpenPBRSurface`} in document order;
   `.records[name]` (an `MtlxMaterial`), `.warnings` (all, once each), `.colorspace` (the
   document's), `.path`.
@@ -71,9 +73,12 @@ may be declared in the document itself. The standard `ND_open_pbr_surface_surfac
 it); its four geometry vectors have no value but `defaultgeomprop` `Nworld` / `Tworld`,
 which in the library's local shading frame are the normal (0, 0, 1) and tangent (1, 0, 0).
 Where a document's own nodedef gives another default, the nodedef's is used and a warning
-says so. The development branch's `specular_haze` and `specular_haze_spread` (an extension
-of this library) are read and written as floats although no MaterialX nodedef declares
-them: other MaterialX readers ignore or reject them.
+says so. The development branch's four inputs (`specular_haze`, `specular_haze_spread`,
+`specular_retroreflectivity`, `emission_weight`) are read on nodes of version 1.2 (an input of
+theirs on a node of the release is a `ValueError` naming it) and written on the nodes of a
+`spec="dev_1.2"` material, which `save_mtlx` marks `version="1.2"`; no MaterialX library
+declares that version yet, so its inputs the release declares take the release's nodedef
+defaults and its own ones the library's.
 
 ## Colour spaces
 
@@ -141,8 +146,8 @@ parameter sets and every example). Another colour space converts the colours wit
 inverse of the reading matrix and re-encodes them: the round trip is then exact to round-off
 (1e-13). A geometry vector is written as a multiple of itself whose normalisation gives the
 stored unit vector exactly (normalising is not idempotent to the last bit). A parameter
-holding an array (a texture of values) cannot be written and raises; `darkening_variant` and
-`haze_model` are not stored (a warning says so when they differ from the defaults).
+holding an array (a texture of values) cannot be written and raises; the deprecated
+`haze_model="barla2018"` is not stored (a warning says so).
 """
 
 

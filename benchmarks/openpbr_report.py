@@ -101,7 +101,10 @@ def furnace(smoke):
                                             rough if smoke else (0.1, 0.3, 1.0)):
         glass = slab == "glass"
         p = {"transmission_weight": 1.0} if glass else SLABS[slab]
-        m = OpenPBRSurface(**p, **HAZE, haze_model=model, specular_roughness=r)
+        with warnings.catch_warnings():  # the hazy gloss has no other name than its alias
+            warnings.simplefilter("ignore", DeprecationWarning)
+            m = OpenPBRSurface(**p, **HAZE, spec="dev_1.2", specular_roughness=r,
+                               **({"haze_model": model} if model == "barla2018" else {}))
         E, _ = _albedo(m, np.concatenate([wo, -wo[:2]]) if glass else wo)
         haze.append((model, slab, r, float((E - 1.0).min()), float((E - 1.0).max())))
     return rows, haze
