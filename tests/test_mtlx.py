@@ -366,7 +366,10 @@ def _params_strategy():
         real = st.floats(lo, min(hi, 10.0), exclude_min=p.lo_open)
         return st.tuples(real, real, real) if p.kind == "color" else real
     skip = {"specular_weight"}  # its modulation of the index can leave the tables
-    return st.fixed_dictionaries({p.name: one(p) for p in PARAMETERS if p.name not in skip})
+    released = {p.name: one(p) for p in PARAMETERS if p.name not in skip | set(DEV_1_2)}
+    dev = {p.name: one(p) for p in PARAMETERS if p.name not in skip}
+    return (st.fixed_dictionaries(released)
+            | st.fixed_dictionaries(dev).map(lambda d: dict(d, spec="dev_1.2")))
 
 
 def _material(params) -> OpenPBRSurface:
@@ -381,6 +384,7 @@ def test_round_trip_is_bit_exact(tmp_path_factory, params):
     material = _material(params)
     path = save_mtlx({"Random": material}, tmp_path_factory.mktemp("rt") / "random.mtlx")
     result, _ = _load(path)
+    assert result["Random"].spec == material.spec
     _assert_identical(material.params, result["Random"].params)
 
 

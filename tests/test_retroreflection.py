@@ -46,7 +46,8 @@ def test_a_full_retroreflector_peaks_at_the_viewer():
 @pytest.mark.parametrize("lobe", [Conductor(0.3, 0.1), DielectricMS(1.5, 0.4)])
 def test_albedo_is_the_lobe_s(lobe):
     """The turn keeps cosines and solid angles: the same energy (quadrature of each)."""
-    wo = np.array([[0.3, 0.2, np.sqrt(0.87)], [0.8, 0.1, np.sqrt(0.35)], [0.1, 0.0, -np.sqrt(0.99)]])
+    wo = np.array([[0.3, 0.2, np.sqrt(0.87)], [0.8, 0.1, np.sqrt(0.35)],
+                   [0.1, 0.0, -np.sqrt(0.99)]])
     np.testing.assert_allclose(Retroreflective(lobe, 0.6).albedo(wo, tol=1e-7),
                                lobe.albedo(wo, tol=1e-7), atol=2e-6)
 

@@ -133,12 +133,23 @@ def _hazy_glass_peak(wo):
     return wt if ok else _mirror(wo)
 
 
+def _glass_peak(wo, eta=1.5):
+    """The refracted direction of the mean normal through an interface of relative index
+    ``eta`` (n_below / n_above), the mirror one under total internal reflection."""
+    wt, ok = refract(np.asarray(wo), np.array([0.0, 0.0, 1.0]), eta if wo[2] > 0 else 1 / eta)
+    return wt if ok else _mirror(wo)
+
+
 _GOLD = fresnel.ExactConductor(eta=(0.143, 0.374, 1.442), k=(3.983, 2.385, 1.603))
 _ASM_GOLD = {"base_color": (1.0, 0.7099, 0.3148),
              "specular_edge_color": (0.9408, 0.9636, 0.9099)}
 #: the transmitted lobe's spread 2 alpha |1 - 1/eta| at alpha = 0.05, eta = 1.5
 _DISPERSIVE_SPREAD = 0.05 * 0.9
 _TABLES = ("fast", "tables")
+#: OpenPBR's glass: specular_roughness 0.3 (alpha 0.09), specular_ior 1.5; its sharpest peak
+#: is the transmitted one, of spread 2 alpha |1 - 1/eta|
+_OPENPBR_GLASS = {"transmission_weight": 1.0, "specular_roughness": 0.3, "specular_ior": 1.5}
+_OPENPBR_GLASS_SPREAD = 2 * 0.09 * (1 - 1 / 1.5)
 
 _CASES = (
     # -- dielectric interfaces
@@ -302,6 +313,33 @@ _CASES = (
     CheckCase("ThinDielectric absorbing (0.9,0.6,0.3) eta=1.33 a=0.15,0.08",
               lambda: ThinDielectric(1.33, 0.15, 0.08, transmittance=(0.9, 0.6, 0.3)),
               cos_theta_o=(0.8, -0.4), width=0.3, peak=_straight_through, tags=_TABLES),
+    # -- OpenPBR's translucent, subsurface and thin-walled bases
+    CheckCase("OpenPBR white glass r=0.3 ior=1.5",
+              lambda: OpenPBRSurface(**_OPENPBR_GLASS, transmission_color=1.0),
+              cos_theta_o=(1.0, 0.5, 0.05, -0.5), expected_albedo=_one,
+              furnace_tol=FURNACE_TOL_DIELECTRIC, width=_OPENPBR_GLASS_SPREAD,
+              peak=_glass_peak, tags=_TABLES),
+    CheckCase("OpenPBR tinted glass (0.5,0.7,1) r=0.3 ior=1.5",
+              lambda: OpenPBRSurface(**_OPENPBR_GLASS, transmission_color=(0.5, 0.7, 1.0)),
+              cos_theta_o=(0.8, -0.8), width=_OPENPBR_GLASS_SPREAD, peak=_glass_peak,
+              tags=_TABLES),
+    CheckCase("OpenPBR white subsurface r=0.4",
+              lambda: OpenPBRSurface(subsurface_weight=1.0, subsurface_color=1.0,
+                                     specular_color=1.0, specular_roughness=0.4,
+                                     base_diffuse_roughness=0.5),
+              cos_theta_o=(1.0, 0.5, 0.1), expected_albedo=_one,
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES, reciprocal=False),
+    CheckCase("OpenPBR thin-walled clear sheet r=0.4 ior=1.5",
+              lambda: OpenPBRSurface(geometry_thin_walled=True, transmission_weight=1.0,
+                                     specular_roughness=0.4, transmission_color=1.0),
+              cos_theta_o=(1.0, 0.5, -0.3), expected_albedo=_one,
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES),
+    CheckCase("OpenPBR thin-walled white subsurface g=0.4",
+              lambda: OpenPBRSurface(geometry_thin_walled=True, subsurface_weight=1.0,
+                                     subsurface_color=1.0, specular_color=1.0,
+                                     subsurface_scatter_anisotropy=0.4),
+              cos_theta_o=(1.0, 0.5, -0.3), expected_albedo=_one,
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES, reciprocal=False),
 )
 
 
