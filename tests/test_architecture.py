@@ -71,7 +71,7 @@ def test_no_reference_outside_the_repository():
 
 def _bibliography_keys() -> set[str]:
     text = (ROOT / "docs" / "references.md").read_text()
-    return set(re.findall(r"^- \*\*\[([A-Za-z][A-Za-z'-]*\d{4}[a-z]?)\]\*\*", text, re.M))
+    return set(re.findall(r"^- \*\*\[([A-Za-z][A-Za-z'-]*\d{4}[a-z]*)\]\*\*", text, re.M))
 
 
 def test_bibliography_is_readable():
@@ -82,7 +82,7 @@ def test_bibliography_is_readable():
 @pytest.mark.parametrize("path", list(_files(*PRODUCT)), ids=lambda p: str(p.relative_to(ROOT)))
 def test_every_citation_resolves(path):
     keys = _bibliography_keys()
-    cited = set(re.findall(r"\[([A-Z][A-Za-z'-]*\d{4}[a-z]?)[,\]]", path.read_text()))
+    cited = set(re.findall(r"\[([A-Z][A-Za-z'-]*\d{4}[a-z]*)[,\]]", path.read_text()))
     missing = sorted(cited - keys)
     assert not missing, f"{path.relative_to(ROOT)} cites {missing}, not in docs/references.md"
 
