@@ -66,9 +66,12 @@ D(wo) = lerp(1, Delta(E_b, K(wo), T2), delta), the light the coat reflects back 
 and the base absorbs, with E_b the base's albedo, K(wo) the coat's internal reflectance
 (``darkening.coat_reflectance`` at eta_c and |cos theta_o|) and T2 = tau at normal incidence;
 over a smooth clear coat (E_top = 0 under it) the base's factor is the specification's
-lerp(1, lerp(1, Delta, delta) T^2, c). D depends on wo alone, so it is not offered with
-"reciprocal": there C, recomputed with D, would cancel it (exactly over a Lambertian base
-with K constant), and D(wo) alone breaks the reciprocity the form exists for.
+lerp(1, lerp(1, Delta, delta) T^2, c). The variant "dev_1.2" takes Delta from the light
+transport in the coat instead (``darkening.physical_darkening``; its constants once per
+layer, ``Darkening.coat_constants``), which carries the view dependence of the absorption
+itself: it takes a constant colour T2 in "albedo" only. D depends on wo alone, so it is not
+offered with "reciprocal": there C, recomputed with D, would cancel it (exactly over a
+Lambertian base with K constant), and D(wo) alone breaks the reciprocity the form exists for.
 """
 
 from __future__ import annotations
@@ -548,6 +551,12 @@ class Layer(Lobe):
                                  f"{top.eta!r}); scaling = 'transmittance' and darkening "
                                  "need the coat's index: allowed a top with an interface "
                                  "(e.g. DielectricReflection)")
+        if (darkening is not None and darkening.variant == dk.PHYSICAL
+                and (scaling == "transmittance" or callable(transmittance))):
+            raise ValueError(f"darkening = {darkening!r} with a view-dependent transmittance "
+                             f"(scaling = {scaling!r}, transmittance = {transmittance!r}): "
+                             "its Delta carries the view dependence of the absorption "
+                             "itself; allowed: a constant colour T2 with scaling 'albedo'")
         if scaling == "reciprocal":
             if darkening is not None:
                 raise ValueError(f"darkening = {darkening!r} with scaling = 'reciprocal': "
@@ -584,7 +593,8 @@ class Layer(Lobe):
         #: the reciprocal form's normalisation C ``(3,)`` and its standard error (None
         #: until first needed; ``reciprocal_normalisation``)
         self._C = None
-        #: the darkening's constants (eta_c, K of a rough base, E_b, T2), once per layer
+        #: the darkening's constants (eta_c, ``Darkening.coat_constants``, E_b, T2), once
+        #: per layer
         self._dark = None if darkening is None else self._darkening_constants()
         self.flags = top.flags | base.flags
 
@@ -632,7 +642,8 @@ class Layer(Lobe):
         shapes.append(self.coverage.shape)
         if self.darkening is not None:
             d = self.darkening
-            shapes += [d.delta.shape, d.base_roughness.shape, self._dark[2].shape[:-1]]
+            shapes += [d.delta.shape, d.base_roughness.shape, d.coat_alpha.shape,
+                       self._dark[2].shape[:-1]]
         return np.broadcast_shapes(*shapes)
 
     # -- the weights ------------------------------------------------------------------------
@@ -642,9 +653,11 @@ class Layer(Lobe):
         return 1.0 if self._one_way is None else _memo.once(self, "t", w, self._one_way)
 
     def _darkening_constants(self):
-        """(eta_c, internal_reflectance(eta_c), E_b, T2) of the darkening: E_b the given
-        base albedo or the base's own at normal incidence (its table, else a quadrature to
-        ``DARKENING_ALBEDO_TOL``), at most 1; T2 = tau at normal incidence."""
+        """(eta_c, the darkening's ``coat_constants``, E_b, T2): E_b the given base albedo
+        or the base's own at normal incidence (its table, else a quadrature to
+        ``DARKENING_ALBEDO_TOL``), at most 1; T2 = tau at normal incidence; the constants
+        the internal reflectance of a rough base (``darkening.internal_reflectance(eta_c)``)
+        or, for "dev_1.2", the coat's ``darkening.CoatTransport``."""
         eta = np.asarray(self.top.eta, dtype=np.float64)
         E_b = self.darkening.base_albedo
         if E_b is None:
@@ -659,7 +672,7 @@ class Layer(Lobe):
             T2 = self.transmittance  # T_coat at normal incidence
         else:
             T2 = np.minimum(self._one_way(_NORMAL) ** 2, 1.0)
-        return eta, dk.internal_reflectance(eta), E_b, T2
+        return eta, self.darkening.coat_constants(eta, E_b, T2), E_b, T2
 
     def _top_energy(self, wo):
         """E_top(wo), at most 1 (a top albedo above 1 is rounding or interpolation overshoot;
@@ -681,8 +694,8 @@ class Layer(Lobe):
         if self._T is not None:
             scaled = scaled * self._T
         if self.darkening is not None:
-            eta, K_rough, E_b, T2 = self._dark
-            scaled = scaled * self.darkening.factor(eta, np.abs(wo[..., 2]), E_b, T2, K_rough)
+            eta, coat, E_b, T2 = self._dark
+            scaled = scaled * self.darkening.factor(eta, np.abs(wo[..., 2]), E_b, T2, coat)
         return scaled
 
     def _scaled(self, wo):

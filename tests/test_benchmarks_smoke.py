@@ -185,11 +185,16 @@ def test_asm_report_writes_the_table_1_comparison(tmp_path):
 
 
 def test_darkening_report_writes_its_page(tmp_path):
+    """``benchmarks.darkening_report`` (tiny walks) writes every section into the given
+    folder: two random-walk rows in smoke mode, a Lambertian and a mirror base."""
     from benchmarks import darkening_report
 
-    text = darkening_report.run(tmp_path).read_text(encoding="utf-8")
+    text = darkening_report.run(tmp_path, smoke=True).read_text(encoding="utf-8")
     assert "Values at normal incidence" in text
     assert text.count("| coloured | tinted |") == 2 * len(darkening_report.COAT_IORS)
+    assert "## Physical darkening (dev_1.2) against random walks" in text
+    assert text.count("| Lambertian | ") == 1 and text.count("| mirror | ") == 1
+    assert "Largest |difference| from the walks: dev_1.2 **" in text
 
 
 def test_sheen_report_smoke(tmp_path):

@@ -153,3 +153,36 @@ def test_emission_weight():
     np.testing.assert_array_equal(OpenPBRSurface(spec="dev_1.2", **p).emission(wo), 0.0)
     np.testing.assert_allclose(OpenPBRSurface(spec="dev_1.2", emission_weight=0.3, **p)
                                .emission(wo), 0.3 * full, rtol=1e-14)
+
+
+# -- the coat darkening of dev_1.2 ---------------------------------------------------------------
+@pytest.mark.parametrize(("coat_ior", "coat_roughness", "E_b"), [
+    (1.3, 0.0, 1.0), (1.5, 0.3, 0.5), (2.0, 0.5, 1.0), (2.0, 0.0, 0.5), (1.3, 0.5, 0.5)])
+def test_dev_darkening_is_the_random_walk(coat_ior, coat_roughness, E_b):
+    """spec "dev_1.2", coat_darkening 1: a white or grey Lambertian base (no specular
+    interface: specular_weight 0, sigma 0) under a tinted coat reflects, near normal
+    incidence, what random walks through the absorbing coat reflect (within 0.02)
+    [Portsmouth2025]."""
+    from tests.test_darkening_physical import TINT, _walk
+
+    mu = 0.95
+    m = OpenPBRSurface(spec="dev_1.2", base_color=E_b, specular_weight=0.0,
+                       base_diffuse_roughness=0.0, coat_weight=1.0, coat_color=TINT,
+                       coat_ior=coat_ior, coat_roughness=coat_roughness)
+    walk, sigma = _walk(coat_ior, coat_roughness**2, E_b, mu)
+    E = m.albedo(_sph(mu, 0.0), tol=1e-6)
+    assert np.all(np.abs(E - walk) <= 0.02), (E, walk, sigma)
+
+
+@pytest.mark.parametrize("coat_roughness", [0.0, 0.3])
+def test_dev_without_darkening_is_the_naive_albedo(coat_roughness):
+    """coat_darkening 0 under dev_1.2: E_coat + T^2 E_b (1 - E_coat) [Portsmouth2025], E_coat
+    the coat's own albedo and E_b the Lambertian base's."""
+    T2, E_b = np.array([0.3, 0.55, 0.85]), 0.6
+    m = OpenPBRSurface(spec="dev_1.2", base_color=E_b, specular_weight=0.0,
+                       base_diffuse_roughness=0.0, coat_weight=1.0, coat_color=T2,
+                       coat_roughness=coat_roughness, coat_darkening=0.0)
+    wo = np.stack([_sph(mu, 0.3) for mu in (0.95, 0.9)])
+    E_coat = m.lobes["coat"].albedo(wo, tol=1e-7)
+    np.testing.assert_allclose(m.albedo(wo, tol=1e-7), E_coat + T2 * E_b * (1.0 - E_coat),
+                               atol=1e-5)

@@ -22,10 +22,9 @@ class TintedRefraction(Wrapper):
     """``DielectricMS`` (or ``DispersiveMS``, channel by channel) with every refraction
     multiplied by the colour ``tint``, f = r f_R + t f_T: a constant tint on the refraction
     of an interface with no medium behind it [OpenPBR2026, §Translucent base]; t = 1 is the
-    lobe. The reflection is multiplied by ``reflection_tint`` r, from above only
-    (specular_color of OpenPBR v1.1.1, "the first reflection from above") or, with
-    ``reflection_below``, from both sides (its development branch: the whole BRDF
-    [OpenPBR2026dev, §Dielectric base]); r = 1 leaves it.
+    lobe. The reflection is multiplied by ``reflection_tint`` r, from above only ("the first
+    reflection from above" [OpenPBR2026, §Dielectric base]) or, with ``reflection_below``,
+    from both sides (the whole BRDF [OpenPBR2026dev, §Dielectric base]); r = 1 leaves it.
 
     Refraction pairs and refracted samples are multiplied by t, reflection pairs (both
     directions on one side) and reflected samples by r where it applies; pdfs and sampled
