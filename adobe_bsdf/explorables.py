@@ -24,7 +24,8 @@ from dataclasses import dataclass
 
 from adobe_bsdf import fresnel, lobes
 from adobe_bsdf.bsdf import Lobe
-from adobe_bsdf.materials import MATERIALS
+from adobe_bsdf.materials import MATERIALS, OpenPBRSurface
+from adobe_bsdf.materials.openpbr import DEV_1_2, SPECS
 from adobe_bsdf.materials.spec import Parameter, ParameterSpec
 from adobe_bsdf.microfacet import MASKING
 from adobe_bsdf.tables import ALPHA_MAX
@@ -146,10 +147,26 @@ _LOBES = [
           *_HAZE, *_HAZE_MODEL),
 ]
 
+def _openpbr(spec, **values) -> OpenPBRSurface:
+    """OpenPBR Surface of the version ``spec``: the development branch's own inputs only
+    under it (the release refuses them)."""
+    if spec != "dev_1.2":
+        values = {k: v for k, v in values.items() if k not in DEV_1_2}
+    return OpenPBRSurface(spec=spec, **values)
+
+
+def _material(name, cls) -> Explorable:
+    doc = (cls.__doc__ or "").split("\n")[0]
+    if cls is not OpenPBRSurface:
+        return Explorable(name, cls.parameters, cls, doc)
+    version = Parameter("spec", "choice", SPECS[0], None, choices=SPECS,
+                        doc="the version of the specification (dev_1.2: its own inputs act)")
+    return Explorable(name, ParameterSpec(version, *cls.parameters), _openpbr, doc)
+
+
 #: every target of ``explore`` by name: the materials, then the generic lobes
 EXPLORABLES: dict[str, Explorable] = {
-    **{name: Explorable(name, cls.parameters, cls, (cls.__doc__ or "").split("\n")[0])
-       for name, cls in MATERIALS.items()},
+    **{name: _material(name, cls) for name, cls in MATERIALS.items()},
     **{e.name: e for e in _LOBES},
 }
 

@@ -305,7 +305,9 @@ def test_material_cost(smoke):
         # each pair is sampled by exactly one lobe (a flat batch of scalar parameters)
         assert row["shares"].keys() == row["lobes"].keys(), row
         assert abs(sum(row["shares"].values()) - 1.0) < 1e-12, row["shares"]
-        assert 0.0 < material_cost.mixture_floor(row) <= sum(row["lobe_samples"].values())
+        # a time: positive (its bound by the lobes' sample times is no law, eval_pdf may
+        # cost more than sample, and under load either is noise)
+        assert material_cost.mixture_floor(row) > 0.0
     assert section["pass_seconds"] > 0
     assert "rows" in section["before"], section["before"].get("error")
     assert "## Whole materials against their lobes" in text and "sample / eval" in text
