@@ -361,8 +361,8 @@ def cost(smoke):
 
 
 # -- the page ----------------------------------------------------------------------------------
-def _rgb(x):
-    return "(" + ", ".join(f"{v:.4f}" for v in x) + ")"
+def _rgb(x, fmt=".4f"):
+    return "(" + ", ".join(f"{v:{fmt}}" for v in x) + ")"
 
 
 def _markdown(furnace_rows, haze_rows, sampling_rows, reciprocity_rows, peer_rows, eval_rows,
@@ -430,8 +430,8 @@ def _markdown(furnace_rows, haze_rows, sampling_rows, reciprocity_rows, peer_row
               "and ω_i at 2.1:", "",
               "| material | cos θ_o | cos θ_i | f, this library | f, Adobe | worst relative "
               "difference | pdf, this library | pdf, Adobe |", "|---|---|---|---|---|---|---|---|"]
-    lines += [f"| {n} | {a:g} | {b:g} | {_rgb(f)} | {_rgb(g)} | {r:.3f} | {p:.5g} | {q:.5g} |"
-              for n, a, b, f, g, r, p, q in eval_rows]
+    lines += [f"| {n} | {a:g} | {b:g} | {_rgb(f, '.5g')} | {_rgb(g, '.5g')} | {r:.3f} | "
+              f"{p:.5g} | {q:.5g} |" for n, a, b, f, g, r, p, q in eval_rows]
     rest = [r for r in eval_rows if not r[0].startswith("thin film")]
     lines += ["", f"Worst relative difference of f without the thin films: "
               f"{max(r[5] for r in rest):.3f} (acceptance 0.05)."]
