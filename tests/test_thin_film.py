@@ -19,6 +19,9 @@ GOLD_ETA = np.array([0.143, 0.374, 1.442])
 GOLD_K = np.array([3.983, 2.385, 1.603])
 #: the library's own colour integral: 1 nm samples (the grid of ``spectral``)
 GRID_1NM = np.arange(380.0, 781.0, 1.0)
+#: the acceptance of ``ThinFilm``'s table in cos theta against the spectral sum (max |RGB
+#: error|; measured up to 2.2e-6, the ``ThinFilm`` docstring)
+TABLE_ERROR = 1e-5
 
 
 # --- independent references --------------------------------------------------------------
@@ -298,16 +301,23 @@ def test_thin_film_index_matched_film_is_the_bare_substrate():
 
 
 def test_thin_film_rgb_is_the_colour_of_the_independent_spectrum():
-    """On the 1 nm grid the RGB is ``spectral.reflectance_to_rgb`` of the characteristic-
-    matrix spectrum (each channel with its own substrate index)."""
+    """On the 1 nm grid the RGB of the spectral sum (``spectral_rgb``, and the film built
+    with ``tabulated=False``) is ``spectral.reflectance_to_rgb`` of the characteristic-
+    matrix spectrum (each channel with its own substrate index); the film's table is within
+    its tolerance of it."""
     mu = np.array([1.0, 0.7, 0.3])
     gold = GOLD_ETA + 1j * GOLD_K
     for substrate, n3 in [(1.5, np.full(3, 1.5 + 0j)), ((GOLD_ETA, GOLD_K), gold)]:
         film = ThinFilm(420.0, 1.45, substrate, wavelengths_nm=GRID_1NM, clip=False)
+        direct = ThinFilm(420.0, 1.45, substrate, wavelengths_nm=GRID_1NM, clip=False,
+                          tabulated=False)
         for ch in range(3):
             spectrum = characteristic_matrix_R(GRID_1NM, mu[:, None], 420.0, 1.0, 1.45, n3[ch])
             expected = spectral.reflectance_to_rgb(GRID_1NM, spectrum)[:, ch]
-            np.testing.assert_allclose(film(mu)[:, ch], expected, rtol=0, atol=1e-10)
+            np.testing.assert_allclose(film.spectral_rgb(mu)[:, ch], expected, rtol=0,
+                                       atol=1e-10)
+            np.testing.assert_allclose(direct(mu)[:, ch], expected, rtol=0, atol=1e-10)
+            np.testing.assert_allclose(film(mu)[:, ch], expected, rtol=0, atol=TABLE_ERROR)
 
 
 def test_soap_film_is_coloured_and_changes_with_thickness():
@@ -351,14 +361,18 @@ def test_thin_film_broadcasting(shape):
 
 
 def test_thin_film_texture_equals_one_call_per_texel_and_chunks_do_not_matter():
+    """A texture of films is the spectral sum per texel (no table): one texel's film gives
+    the same by ``spectral_rgb`` to rounding, and by its table to the table's error."""
     rng = np.random.default_rng(7)
     thickness = rng.uniform(0.0, 1000.0, 40)
     mu = rng.uniform(0.0, 1.0, 40)
-    texture = ThinFilm(thickness, 1.5, (GOLD_ETA, GOLD_K))(mu)
+    textured = ThinFilm(thickness, 1.5, (GOLD_ETA, GOLD_K))
+    assert textured.table() is None and not textured.tabulated
+    texture = textured(mu)
     for i in (0, 17, 39):
-        np.testing.assert_allclose(texture[i], ThinFilm(thickness[i], 1.5,
-                                                        (GOLD_ETA, GOLD_K))(mu[i]),
-                                   rtol=0, atol=1e-15)
+        texel = ThinFilm(thickness[i], 1.5, (GOLD_ETA, GOLD_K))
+        np.testing.assert_allclose(texture[i], texel.spectral_rgb(mu[i]), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(texture[i], texel(mu[i]), rtol=0, atol=TABLE_ERROR)
     with config.options(chunk_size=500):  # chunks of 2 texels on the 201-sample grid
         np.testing.assert_allclose(ThinFilm(thickness, 1.5, (GOLD_ETA, GOLD_K))(mu), texture,
                                    rtol=0, atol=1e-15)
@@ -403,6 +417,8 @@ def test_default_wavelength_grid_convergence(n2, bound):
     (lambda: ThinFilm(300.0, 1.33, 1.5, wavelengths_nm=[400.0, 700.0]), "wavelengths_nm"),
     (lambda: ThinFilm(300.0, 1.33, 1.5, wavelengths_nm=[780.0, 380.0]), "wavelengths_nm"),
     (lambda: ThinFilm(300.0, 1.33, 1.5, clip=1), "clip"),
+    (lambda: ThinFilm(300.0, 1.33, 1.5, tabulated=1), "tabulated"),
+    (lambda: ThinFilm(300.0, 1.33, 1.5).spectral_rgb(1.5), "cos_theta"),
     (lambda: ThinFilm(300.0, 1.33, 1.5)(1.5), "cos_theta"),
     (lambda: ThinFilm.over_f82_tint(300.0, 1.33, 1.2, 0.5), "f0"),
     (lambda: ThinFilm.over_f82_tint(-300.0, 1.33, 0.5, 0.5), "thickness_nm"),
@@ -424,3 +440,91 @@ def test_subnormal_film_at_a_subnormal_cosine():
                                          outside_ior=1.0), rtol=1e-9)
     assert 0.0 < R < 1e-3
 
+
+
+# --- the table in cos theta ----------------------------------------------------------------
+def _held_out(film, n=1001, seed=0):
+    """Cosines the table was not built on: an even grid, random ones and points 10^-k on
+    either side of every critical angle."""
+    rng = np.random.default_rng(seed)
+    critical = film.critical_cosines()
+    near = (critical[:, None, None] + np.array([-1.0, 1.0])[:, None]
+            * 10.0 ** -np.arange(2, 13)).ravel()
+    return np.concatenate([np.linspace(0.0, 1.0, n), rng.random(n), np.clip(near, 0.0, 1.0)])
+
+
+_TABLE_FILMS = [  # (thickness nm, film index, substrate, outside index)
+    (2000.0, 3.0, 1.5, 1.0), (2000.0, 1.05, 1 / 3, 1.0), (800.0, 1.2, 1.0, 1.0),
+    (1.0, 0.7, 1 / 3, 1.0),  # a barely-there film: its colour is in a sliver by the critical angle
+    (350.0, 1.33, 3.0, 1.0), (600.0, 1.0, 1.6, 1.5),  # under a coat: the film's critical angle
+    (1200.0, 2.2, [0.8, 1.2, 2.0], 1.0), (950.0, 1.6, (GOLD_ETA, GOLD_K), 1.0),
+]
+
+
+@pytest.mark.parametrize(("d", "n2", "substrate", "n1"), _TABLE_FILMS)
+def test_thin_film_table_against_the_spectral_sum(d, n2, substrate, n1):
+    """The table in cos theta against the spectral sum at held-out cosines, critical angles
+    included: within ``TABLE_ERROR`` (the ``ThinFilm`` docstring's measurement covers the
+    whole range), clipped and unclipped."""
+    for clip in (False, True):
+        film = ThinFilm(d, n2, substrate, outside_ior=n1, clip=clip)
+        mu = _held_out(film)
+        error = np.abs(film(mu) - film.spectral_rgb(mu)).max()
+        print(f"d = {d}, n2 = {n2}, clip = {clip}: max |table - spectral| = {error:.2e}, "
+              f"{len(film.table())} nodes")
+        assert error <= TABLE_ERROR
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_thin_film_table_over_f82_tint_metals(seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(3):
+        film = ThinFilm.over_f82_tint(rng.uniform(0.0, 2000.0), rng.uniform(1.0, 3.0),
+                                      rng.uniform(0.0, 1.0, 3), rng.uniform(0.0, 1.0, 3),
+                                      outside_ior=rng.choice([1.0, 1.5]), clip=False)
+        mu = _held_out(film, 501, seed)
+        assert np.abs(film(mu) - film.spectral_rgb(mu)).max() <= TABLE_ERROR
+
+
+def test_thin_film_table_is_built_once_and_vanishes_with_the_film():
+    """One table per film, on first use; the table holds F - F_bare, so a vanishing film
+    (thickness 1e-9 nm, an index-matched film) is the film-free Fresnel to rounding, and
+    ``tabulated=False`` is the spectral sum itself."""
+    film = ThinFilm(500.0, 1.4, 1.5)
+    assert film._table is None
+    table = film.table()
+    assert film.table() is table and film._table is table
+    mu = np.linspace(0.0, 1.0, 101)
+    bare = np.repeat(F.dielectric(mu, 1.5)[:, None], 3, -1)
+    for vanishing in (ThinFilm(1e-9, 1.4, 1.5), ThinFilm(700.0, 1.0, 1.5)):
+        np.testing.assert_allclose(vanishing(mu), bare, rtol=0, atol=1e-12)
+        assert np.abs(vanishing.table().values).max() <= 1e-12
+    direct = ThinFilm(500.0, 1.4, 1.5, tabulated=False)
+    assert direct.table() is None
+    np.testing.assert_array_equal(direct(mu), film.spectral_rgb(mu))
+
+
+def test_adaptive_cubic():
+    """Exact for a cubic; meets its tolerance between the nodes of a smooth oscillating
+    function and, with the branch point as a break, of a square root; stops at max_nodes
+    (``converged`` False); clamps outside [0, 1]."""
+    def cubic(x):
+        return np.stack([1.0 - 2.0 * x + 3.0 * x**3, x * x], axis=-1)
+    x = np.linspace(0.0, 1.0, 997)
+    exact = thin_film.AdaptiveCubic(cubic, 1e-12)
+    assert len(exact) == 33 and exact.converged
+    np.testing.assert_allclose(exact(x), cubic(x), rtol=0, atol=1e-14)
+    assert exact(np.array([-1.0, 2.0])).tolist() == cubic(np.array([0.0, 1.0])).tolist()
+
+    def wave(x):
+        return np.sin(40.0 * x)[:, None]
+    table = thin_film.AdaptiveCubic(wave, 1e-7)
+    assert table.converged and table.midpoint_error <= 1e-7
+    assert np.abs(table(x) - wave(x)).max() <= 3e-7
+
+    def root(x):
+        return np.sqrt(np.abs(x - 0.3))[:, None]
+    kinked = thin_film.AdaptiveCubic(root, 1e-5, breaks=[0.3])
+    near = 0.3 + np.concatenate([-1.0, 1.0] * np.logspace(-12, -1, 45)[:, None])
+    assert np.abs(kinked(near) - root(near)).max() <= 3e-5
+    assert not thin_film.AdaptiveCubic(wave, 1e-12, max_nodes=40).converged

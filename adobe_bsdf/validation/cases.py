@@ -340,6 +340,11 @@ _CASES = (
                                      subsurface_scatter_anisotropy=0.4),
               cos_theta_o=(1.0, 0.5, -0.3), expected_albedo=_one,
               furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES, reciprocal=False),
+    CheckCase("OpenPBR thin-film metal d=0.4um n=1.5",
+              lambda: OpenPBRSurface(base_metalness=1.0, base_color=(0.9, 0.6, 0.3),
+                                     specular_roughness=0.4, thin_film_weight=1.0,
+                                     thin_film_thickness=0.4, thin_film_ior=1.5),
+              cos_theta_o=(1.0, 0.5, 0.1), tags=_TABLES),
 )
 
 

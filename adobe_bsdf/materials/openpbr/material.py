@@ -29,7 +29,7 @@ import numpy as np
 
 from adobe_bsdf import _params, media
 from adobe_bsdf.composition import Facing, Flipped, Layer, Mix, Rotated, Sum, Tinted
-from adobe_bsdf.darkening import VARIANTS, Darkening
+from adobe_bsdf.darkening import Darkening
 from adobe_bsdf.fresnel import ExactDielectric, F82Tint, Weighted
 from adobe_bsdf.lobes.energy_lookup import conductor_average
 from adobe_bsdf.lobes.hazy import HazyDielectric, HazyGloss
