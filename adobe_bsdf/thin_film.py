@@ -62,8 +62,20 @@ WAVELENGTHS_NM.setflags(write=False)
 #: the tolerance of ``ThinFilm``'s table in cos theta at the midpoints of its nodes
 #: (``AdaptiveCubic``; the measured error between the nodes is in the ``ThinFilm`` docstring)
 TABLE_TOL = 1e-6
-#: guards the lazy construction of the tables (one build per film, whichever thread asks)
-_LOCK = threading.Lock()
+#: guards the lazy construction of the tables (one build per owner, whichever thread asks;
+#: reentrant: a lobe's table is built from its film's)
+_LOCK = threading.RLock()
+
+
+def built_once(owner, make):
+    """``owner._table``: ``make()``'s ``AdaptiveCubic``, built on the first call under the
+    module's lock and kept (``False`` where it did not converge); None where there is none."""
+    if owner._table is None:
+        with _LOCK:
+            if owner._table is None:
+                table = make()
+                owner._table = table if table.converged else False
+    return owner._table if owner._table is not False else None
 
 
 # --- the Airy sum ------------------------------------------------------------------------
@@ -607,21 +619,14 @@ class ThinFilm(Fresnel):
         not converge."""
         if not self.tabulated:
             return None
-        if self._table is None:
-            with _LOCK:
-                self._build_table()
-        return self._table if self._table is not False else None
+        return built_once(self, self._make_table)
 
-    def _build_table(self):
-        """``table``'s construction (under the lock; a no-op once built)."""
-        if self._table is not None:
-            return
-
+    def _make_table(self) -> AdaptiveCubic:
+        """``table``'s construction."""
         def difference(c):
             c2 = c * c
             return self._spectral(c2, clip=False) - self._bare(c2)
-        table = AdaptiveCubic(difference, TABLE_TOL, self.critical_cosines())
-        self._table = table if table.converged else False
+        return AdaptiveCubic(difference, TABLE_TOL, self.critical_cosines())
 
     def critical_cosines(self) -> np.ndarray:
         """The cosines of the critical angles ``(K,)`` (scalar parameters), where the

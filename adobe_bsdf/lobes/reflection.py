@@ -3,8 +3,6 @@ a conductor's, and a dielectric interface's reflection alone."""
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 
 from adobe_bsdf import _params, quadrature
@@ -25,7 +23,7 @@ from adobe_bsdf.lobes.energy_lookup import (
 from adobe_bsdf.lobes.top_albedo import TopAlbedoGrid
 from adobe_bsdf.microfacet import GGX, distribution, saturated
 from adobe_bsdf.tables.energy import _breakpoints, _g, _outer_knots, _rule
-from adobe_bsdf.thin_film import AdaptiveCubic, ThinFilm
+from adobe_bsdf.thin_film import AdaptiveCubic, ThinFilm, built_once
 
 __all__ = ["MicrofacetReflection", "Conductor", "DielectricReflection", "ReferencedReflection"]
 
@@ -41,8 +39,6 @@ DIFFERENCE_ORDER = 16
 DIFFERENCE_MAX_NODES = 1024
 #: directions integrated at once by ``_fresnel_energy`` (memory: ~1e5 nodes each)
 _ENERGY_CHUNK = 8
-#: guards the lazy construction of the tables (one build per lobe, whichever thread asks)
-_LOCK = threading.Lock()
 
 
 class MicrofacetReflection(SupportLobe):
@@ -347,15 +343,10 @@ class ReferencedReflection(MicrofacetReflection):
         if not (self.tabulated and self._signed._param_shape() == () and isinstance(d, GGX)
                 and d.masking == "correlated" and d.alpha_x == d.alpha_y and not d.smooth):
             return None
-        if self._table is None:
-            with _LOCK:
-                self._build_table()
-        return self._table if self._table is not False else None
+        return built_once(self, self._make_table)
 
-    def _build_table(self):
-        """``table``'s construction (under the lock; a no-op once built)."""
-        if self._table is not None:
-            return
+    def _make_table(self) -> AdaptiveCubic:
+        """``table``'s construction."""
         kinks = _kinks(self._signed.fresnel)
         alpha = np.asarray(self.distribution.alpha_x, dtype=np.float64)
 
@@ -364,8 +355,7 @@ class ReferencedReflection(MicrofacetReflection):
                 _fresnel_energy(mu[i:i + _ENERGY_CHUNK], alpha, self._signed.fresnel.from_cos2,
                                 kinks, DIFFERENCE_ORDER)
                 for i in range(0, mu.size, _ENERGY_CHUNK)])
-        table = AdaptiveCubic(difference, DIFFERENCE_TOL, kinks, max_nodes=DIFFERENCE_MAX_NODES)
-        self._table = table if table.converged else False
+        return AdaptiveCubic(difference, DIFFERENCE_TOL, kinks, max_nodes=DIFFERENCE_MAX_NODES)
 
     def _albedo_table(self, wo, with_error=True):
         """The reference's table plus the difference; its error: the reference's plus, from
