@@ -456,9 +456,11 @@ def _markdown(furnace_rows, haze_rows, sampling_rows, reciprocity_rows, peer_row
               f"{len(closer)} rows. Both approximations are far from the structure where "
               "it traps light: a smooth metal under a smooth coat at grazing views (light the "
               "metal reflects beyond the coat's critical angle bounces until the metal absorbs "
-              "it; albedo scaling has no such path), and the glass's multiple scattering "
-              "between microfacets, which the walk sends into a glossy lobe and a separable "
-              "Kulla–Conty term spreads like a diffuse one. The largest relative departure of "
+              "it; albedo scaling has no such path). The glass's multiple reflection the "
+              "library sends, as the walk does, mostly about the mirror direction "
+              "(`DielectricMultipleReflection`; against the walk over a grid of roughness, "
+              "index and pairs in [ms_reflection_measured.md](ms_reflection_measured.md)). "
+              "The largest relative departure of "
               f"this library from the walk: {worst[0]}, {abs(worst[1] / worst[3] - 1):.0%} "
               f"(Adobe's: {abs(worst[2] / worst[3] - 1):.0%})."]
     n, rows, one_pass = cost_data

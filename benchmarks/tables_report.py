@@ -49,8 +49,11 @@ ORDER = 28
 
 #: tables whose interpolation error is measured elsewhere, through the lobe's own lookup (the
 #: sheen rescales small roughness: docs/sheen_measured.md; the anisotropic conductor is
-#: looked up in its similarity coordinate: ``anisotropy_rows``)
-OWN_REPORT = ("sheen_albedo", "ggx_conductor_anisotropic", "ggx_reflection_moments")
+#: looked up in its similarity coordinate: ``anisotropy_rows``; the glossy multiple
+#: reflection's scaling, by the energy it makes its lobe reflect:
+#: docs/ms_reflection_measured.md)
+OWN_REPORT = ("sheen_albedo", "ggx_conductor_anisotropic", "ggx_reflection_moments",
+              "ggx_dielectric_ms_reflection")
 
 
 def _reference(name, coords):

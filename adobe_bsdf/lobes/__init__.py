@@ -13,6 +13,8 @@
 ``Dispersive(eta, dispersion, alpha_x, alpha_y=None, ...)``  one index per RGB channel
 ``ConductorMultipleScattering`` / ``ConductorMS``            Kulla–Conty for metals
 ``DielectricMultipleScattering`` / ``DielectricMS``          Kulla–Conty for rough dielectrics
+``DielectricMultipleReflection(eta, alpha_x, alpha_y, weight)``
+                                                             its glossy multiple reflection
 ``Sheen(color, roughness, c=2, p=1)``                        microflake sheen
 ``EnergyPreservingOrenNayar(albedo, roughness)`` / ``EON``    rough diffuse [PortsmouthEON2025]
 ``LTCSheen(color, roughness)``                               LTC fuzz [Zeltner2022]
@@ -36,6 +38,7 @@ from adobe_bsdf.lobes.kulla_conty import (
     ConductorMS,
     ConductorMultipleScattering,
     DielectricMS,
+    DielectricMultipleReflection,
     DielectricMultipleScattering,
 )
 from adobe_bsdf.lobes.lambert import Lambert
@@ -55,6 +58,6 @@ from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 
 __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection", "Dielectric",
            "ReferencedReflection", "Dispersive", "ConductorMultipleScattering", "ConductorMS",
-           "DielectricMultipleScattering", "DielectricMS", "Sheen", "HazyGloss",
+           "DielectricMultipleScattering", "DielectricMultipleReflection", "DielectricMS", "Sheen", "HazyGloss",
            "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough",
            "ThinDielectric", "TintedRefraction", "Retroreflective"]

@@ -33,9 +33,9 @@ import numpy as np
 
 from adobe_bsdf import _params, tables
 from adobe_bsdf._channels import pick
-from adobe_bsdf.bsdf import Flags, luminance
+from adobe_bsdf.bsdf import Flags, Lobe, finished_sample, luminance
 from adobe_bsdf.composition import Sum
-from adobe_bsdf.lobes.dielectric import Dielectric, _eta, interface_energy_scale
+from adobe_bsdf.lobes.dielectric import Dielectric, _eta, _mirror_z, interface_energy_scale
 from adobe_bsdf.lobes.dispersive import Dispersive
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
@@ -45,6 +45,7 @@ from adobe_bsdf.lobes.energy_lookup import (
     exact_anisotropic,
     grey,
     is_anisotropic,
+    lookup,
     sides,
     slice_average,
     table_alpha,
@@ -54,7 +55,15 @@ from adobe_bsdf.lobes.separable import Separable
 from adobe_bsdf.microfacet import GGX
 
 __all__ = ["ConductorMultipleScattering", "ConductorMS", "DielectricMultipleScattering",
-           "DielectricMS", "DispersiveMS"]
+           "SeparableDielectricMS", "DielectricMultipleReflection", "DielectricMS",
+           "DispersiveMS", "GLOSSY_SHARE"]
+
+#: the share of the light side's multiply reflected energy that ``DielectricMultipleReflection``
+#: carries where the roughness is isotropic (the rest: ``SeparableDielectricMS``), fitted to
+#: the microsurface random walk [Heitz2016ms] by ``benchmarks/ms_reflection.py``
+#: (``docs/energy_models.md``)
+GLOSSY_SHARE = 0.95
+_MS_TABLE = "ggx_dielectric_ms_reflection"
 
 
 def _inverse_loss(E_avg):
@@ -143,8 +152,10 @@ class ConductorMS(Sum):
                        ConductorMultipleScattering._new(distribution, base_color)))
 
 
-class DielectricMultipleScattering(Separable):
-    """Kulla–Conty terms of a rough dielectric interface [Kutz2021, §1.2], both sides.
+class SeparableDielectricMS(Separable):
+    """The separable Kulla–Conty terms of a rough dielectric interface [Kutz2021, §1.2],
+    both sides (``DielectricMultipleScattering`` adds the glossy share of the light side's
+    reflection).
 
     With E_s(mu) = E_R + E_T the single-scattering energy seen from side s (L: less dense,
     D: dense), E_avg,s its average, eta = n_D / n_L >= 1 and r_s the share of side s's
@@ -159,6 +170,10 @@ class DielectricMultipleScattering(Separable):
     (1 - r_L)(1 - E_avg,L) = eta^2 (1 - r_D)(1 - E_avg,D). We take r_L from the single
     scattering, r_L = E_R,avg,L / E_avg,L, and r_D from that condition (if it would leave
     [0, 1], r_D = 0 and r_L follows from the condition instead). ``docs/tables.md``.
+
+    Of the light side's reflection this term keeps the share 1 - g, g = ``GLOSSY_SHARE``
+    where the roughness is isotropic (0 elsewhere): ``glossy_weight`` g r_L is what
+    ``DielectricMultipleReflection`` reflects instead.
     """
 
     flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.DIFFUSE
@@ -195,12 +210,17 @@ class DielectricMultipleScattering(Separable):
         t_D = pick(capped, 1.0, t_D)
         self.transmitted_share = (t_L, t_D)
         active = ~self.distribution.smooth & (self.eta != 1.0)
+        g = pick(active & ~is_anisotropic(self.distribution), GLOSSY_SHARE, 0.0)
+        #: g r_L: the share of the light side's multiply scattered energy reflected glossily
+        self.glossy_weight = g * (1.0 - t_L)
+        #: what this term keeps of the light side's energy X_L, 1 - g r_L
+        self._kept = 1.0 - self.glossy_weight
         inv_L, inv_D = _inverse_loss(E_avg_L), _inverse_loss(E_avg_D)
         # L -> D: t_L / (pi eta^2 loss_D), which the condition makes t_D / (pi loss_L); where
         # the dense side loses nothing that 1 / loss_D resolves (``_inverse_loss`` 0), that
         # second form keeps the pair reciprocal (D -> L stays eta^2 t_D / (pi loss_L))
         self._c = {  # coefficient of each (side of wo, side of wi) pair
-            ("L", "L"): (1.0 - t_L) * inv_L, ("D", "D"): (1.0 - t_D) * inv_D,
+            ("L", "L"): (1.0 - g) * (1.0 - t_L) * inv_L, ("D", "D"): (1.0 - t_D) * inv_D,
             ("L", "D"): pick(inv_D > 0.0, t_L * inv_D / eta2, t_D * inv_L),
             ("D", "L"): eta2 * t_D * inv_L}
         self._c = {k: pick(active, v, 0.0) for k, v in self._c.items()}
@@ -208,7 +228,7 @@ class DielectricMultipleScattering(Separable):
 
     def __repr__(self) -> str:
         d = self.distribution
-        return (f"DielectricMultipleScattering(eta={self.eta}, alpha_x={d.alpha_x}, "
+        return (f"SeparableDielectricMS(eta={self.eta}, alpha_x={d.alpha_x}, "
                 f"alpha_y={d.alpha_y})")
 
     def _param_shape(self):
@@ -232,20 +252,166 @@ class DielectricMultipleScattering(Separable):
         return np.broadcast_to(c, c.shape[:-1] + (3,))  # grey: f is (..., 3) as for any lobe
 
     def _reflect_probability(self, wo):
+        """This term's own: on the light side (1 - g) r_L / (1 - g r_L)."""
         t_L, t_D = self._t
-        return 1.0 - pick(self._on_light(wo), t_L, t_D)
+        kept = self._kept
+        light = pick(kept > 0.0, (kept - t_L) / pick(kept > 0.0, kept, 1.0), 0.0)
+        return pick(self._on_light(wo), light, 1.0 - t_D)
+
+    def _light_share(self, wo):
+        """1 - g r_L on the light side, 1 on the dense side."""
+        return pick(self._on_light(wo), self._kept, 1.0)
 
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
 
     def _albedo_table(self, wo, with_error=True):
-        """1 - E_s(mu_o): what this term adds, exactly, for the tabulated E."""
+        """(1 - E_s(mu_o)) times ``_light_share``: what this term adds, exactly, for the
+        tabulated E."""
         E, error = dielectric_energy(self.eta, self.distribution, wo, with_error, self.exact)
         active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
-        return grey(pick(active, np.maximum(1.0 - E, 0.0), 0.0)), grey(error)
+        share = self._light_share(wo)
+        return (grey(pick(active, np.maximum(1.0 - E, 0.0), 0.0) * share),
+                grey(None if error is None else error * share))
 
     def _sampling_weight(self, wo):
-        return self._X_at(wo)
+        return self._X_at(wo) * self._light_share(wo)
+
+
+class DielectricMultipleReflection(Lobe):
+    """The glossy share of the light a rough dielectric interface reflects after more than one
+    scattering, on its light side:
+
+        f = w a(mu_o) a(mu_i) D(h) G2(wo, wi) / (4 |cos theta_o| |cos theta_i|),
+
+    the F = 1 GGX reflection of the interface's own roughness scaled by a(mu), the
+    symmetric scaling of ``tables`` "ggx_dielectric_ms_reflection", with which it reflects
+    exactly w (1 - E_L(mu_o)) (1 - E_L the light side's single-scattering loss) [Sinkhorn1967;
+    KullaConty2017]. Symmetric in (wo, wi): reciprocal. Sampled by the visible normals of
+    that reflection [Heitz2018], the weight times w a(mu_o) a(mu_i).
+
+    The microsurface random walk [Heitz2016ms] reflects multiply scattered light into a lobe
+    about the mirror direction, not a separable one: ``docs/energy_models.md`` measures both
+    against it. 0 where the roughness is anisotropic (the table's kernel is isotropic).
+
+    Parameters
+    ----------
+    eta : array_like, max(eta, 1/eta) in [1, 3]
+        n_below / n_above (the light side: above where eta >= 1).
+    alpha_x, alpha_y : array_like in [0, 2]
+    weight : array_like in [0, 1]
+        w, the share of the light side's multiply scattered energy reflected so.
+    """
+
+    flags = Flags.REFLECTION | Flags.GLOSSY
+
+    def __init__(self, eta, alpha_x, alpha_y=None, weight=1.0):
+        self._init(_eta(eta), GGX(alpha_x, alpha_y),
+                   _params.real("weight", weight, 0.0, 1.0))
+
+    def _init(self, eta, distribution: GGX, weight):
+        self.eta_ = eta
+        self.distribution = distribution
+        alpha = table_alpha(distribution, _MS_TABLE)
+        ratio = checked_ratio(eta, _MS_TABLE)
+        active = ~distribution.smooth & (eta != 1.0) & ~is_anisotropic(distribution)
+        #: w, 0 where the term is inactive (smooth, index-matched or anisotropic)
+        self.weight = pick(active, weight, 0.0)
+        self._coords = {"alpha": alpha, "eta": ratio}
+        #: +1 where the light side is above, -1 below
+        self._side = pick(sides(eta)[0], 1.0, -1.0)
+        self._white = Conductor._new(distribution, None)
+
+    def __repr__(self) -> str:
+        d = self.distribution
+        return (f"DielectricMultipleReflection(eta={self.eta_}, alpha_x={d.alpha_x}, "
+                f"alpha_y={d.alpha_y}, weight={self.weight})")
+
+    def _param_shape(self):
+        return np.broadcast_shapes(self.eta_.shape, self.distribution.param_shape,
+                                   np.shape(self.weight))
+
+    def _a(self, w):
+        """a(|cos theta|) of the table."""
+        mu = np.abs(w[..., 2])
+        return lookup(_MS_TABLE, mu, **self._coords)[0]
+
+    def _scale(self, wo, wi):
+        return self.weight * (self._a(wo) * self._a(wi))
+
+    def _up(self, w):
+        """``w`` mirrored so that the light side is above (the white reflection's side)."""
+        return _mirror_z(w, self._side)
+
+    def _eval(self, wo, wi):
+        f = self._white._eval(self._up(wo), self._up(wi))
+        return f * self._scale(wo, wi)[..., None]
+
+    def _pdf(self, wo, wi):
+        return self._white._pdf(self._up(wo), self._up(wi))
+
+    def _eval_pdf(self, wo, wi):
+        f, pdf = self._white._eval_pdf(self._up(wo), self._up(wi))
+        return f * self._scale(wo, wi)[..., None], pdf
+
+    def _sample(self, wo, u):
+        s = self._white._sample(self._up(wo), u)
+        wi = self._up(s.wi)
+        weight = s.weight * pick(s.pdf > 0.0, self._scale(wo, wi), 0.0)[..., None]
+        flags = pick(s.pdf > 0.0, int(Flags.REFLECTION | Flags.GLOSSY), int(Flags.NONE))
+        return finished_sample(wi, weight, s.pdf, flags)
+
+    def _albedo_table(self, wo, with_error=True):
+        """w (1 - E_L(mu_o)) on the light side: what the table's scaling makes it reflect
+        (exact at the table's nodes; the interpolation error in ``docs/energy_models.md``)."""
+        E, error = dielectric_energy(self.eta_, self.distribution, wo, with_error)
+        light = (wo[..., 2] * self._side > 0.0) & (self.weight > 0.0)
+        X = pick(light, np.maximum(1.0 - E, 0.0) * self.weight, 0.0)
+        return grey(X), grey(None if error is None else pick(light, error * self.weight, 0.0))
+
+    def _sampling_weight(self, wo):
+        return self._albedo_table(wo, with_error=False)[0][..., 0]
+
+
+class DielectricMultipleScattering(Sum):
+    """Kulla–Conty terms of a rough dielectric interface [Kutz2021, §1.2], both sides: they
+    restore exactly the energy 1 - E_s(mu_o) that single scattering loses on each side s, and
+    are reciprocal. ``SeparableDielectricMS`` transmits and reflects it as separable terms;
+    of the light side's reflection the share ``GLOSSY_SHARE`` goes instead to the glossy
+    ``DielectricMultipleReflection`` (isotropic roughness), as the microsurface random walk
+    [Heitz2016ms] sends it (``docs/energy_models.md``).
+
+    Parameters
+    ----------
+    eta : array_like, max(eta, 1/eta) in [1, 3]
+        n_below / n_above.
+    alpha_x, alpha_y : array_like in [0, 2]
+    """
+
+    def __init__(self, eta, alpha_x, alpha_y=None):
+        self._init(_eta(eta), GGX(alpha_x, alpha_y))
+
+    def _init(self, eta, distribution: GGX):
+        separable = SeparableDielectricMS._new(eta, distribution)
+        parts = [separable]
+        if np.any(separable.glossy_weight > 0.0):  # a material pays only for what it uses
+            parts.append(DielectricMultipleReflection._new(eta, distribution,
+                                                           separable.glossy_weight))
+        self.distribution = distribution
+        self.separable = separable
+        #: (t_L, t_D): the share of each side's multiply scattered energy transmitted
+        self.transmitted_share = separable.transmitted_share
+        super()._init(tuple(parts))
+
+    def __repr__(self) -> str:
+        d = self.distribution
+        return (f"DielectricMultipleScattering(eta={self.separable.eta}, "
+                f"alpha_x={d.alpha_x}, alpha_y={d.alpha_y})")
+
+    def _reflect_probability(self, wo):
+        """The share of the multiply scattered energy at ``wo`` reflected, 1 - t_s."""
+        t_L, t_D = self.separable._t
+        return 1.0 - pick(self.separable._on_light(wo), t_L, t_D)
 
 
 class DielectricMS(Sum):

@@ -7,6 +7,7 @@
 | ``ggx_dielectric_outside`` | mu, alpha, eta | E_R, E_T | [Kutz2021, §1.2], light side |
 | ``ggx_dielectric_inside`` | mu, alpha, eta | E_R, E_T | the same from the dense side (1 / eta) |
 | ``ggx_dielectric_*_avg`` | alpha, eta | E_R_avg, E_T_avg | mu-averages of the two above |
+| ``ggx_dielectric_ms_reflection`` | mu, alpha, eta | a | scale of the glossy multiple reflection |
 | ``asm_diffuse_L`` | mu, roughness, ior | L | [Kutz2021, §1.1 eq. 1], lobe integral L |
 | ``asm_diffuse_T`` | roughness, ior | T | [Kutz2021, §1.1 eq. 1], total integral T |
 | ``ggx_conductor_anisotropic`` | s, cos_phi, alpha, ratio | E | the anisotropic E(wo) |
@@ -41,7 +42,7 @@ from adobe_bsdf.tables.anisotropic_energy import (
     similarity,
     unblended,
 )
-from adobe_bsdf.tables.energy import ggx_energy
+from adobe_bsdf.tables.energy import ggx_energy, ggx_reflection_transfer
 from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
 __all__ = ["SPECS", "ETA_MAX", "IOR_MAX", "ALPHA_MAX", "sheen_energy", "anisotropic_average",
@@ -75,6 +76,46 @@ def _energy(mu, alpha, eta, order):
         values[smooth, 0] = F
         values[smooth, 1] = 0.0 if eta is None else 1.0 - F
     return values, errors
+
+
+#: Sinkhorn iterations of ``_ms_reflection`` (it stops earlier once a column has converged)
+_SINKHORN_STEPS = 4000
+
+
+def _symmetric_scaling(M, X):
+    """a >= 0 with a_k (M a)_k = X_k for every k with X_k > 0 (a_k = 0 where X_k = 0): the
+    symmetric matrix scaling of the positive kernel M by the fixed-point iteration
+    a <- sqrt(a X / (M a)) [Sinkhorn1967]; returns (a, |a (M a) - X|)."""
+    a = np.sqrt(X)
+    for _ in range(_SINKHORN_STEPS):
+        Ma = M @ a
+        new = np.sqrt(a * X / np.where(Ma > 0.0, Ma, 1.0))
+        new = np.where(X > 0.0, new, 0.0)
+        done = np.max(np.abs(new - a), initial=0.0) <= 1e-15 * np.max(new, initial=1.0)
+        a = new
+        if done:
+            break
+    return a, np.abs(a * (M @ a) - X)
+
+
+def _ms_reflection(spec, mu, alpha, eta, parent: Table):
+    """a(mu) of every (alpha, eta) column: the F = 1 GGX reflection at alpha, scaled by
+    a(mu_o) a(mu_i), reflects exactly X(mu_o) = 1 - E_R - E_T of the light side (``parent``,
+    at its nodes) for the cubic interpolant of a on the mu axis (``ggx_reflection_transfer``
+    and ``_symmetric_scaling``). Error: the residual of that equation."""
+    axis = spec.axes[0]
+    mu_nodes, alphas, etas = (a.nodes() for a in spec.axes)
+    grid = np.meshgrid(mu_nodes, alphas, etas, indexing="ij")
+    X = np.maximum(1.0 - parent(*grid).sum(-1), 0.0)  # (mu, alpha, eta): its interpolant
+    values, errors = np.zeros(X.shape), np.zeros(X.shape)
+    for i, a in enumerate(alphas):
+        if a == 0.0:
+            continue  # the smooth interface scatters once: no multiple reflection
+        M = ggx_reflection_transfer(mu_nodes, np.full(len(mu_nodes), a), axis, spec.order)
+        for j in range(len(etas)):
+            values[:, i, j], errors[:, i, j] = _symmetric_scaling(M, X[:, i, j])
+    full = Table(spec, values[..., None], errors[..., None])
+    return full(mu, alpha, eta), full.error(mu, alpha, eta)
 
 
 def _conductor(spec, mu, alpha):
@@ -292,6 +333,9 @@ def _sheen(spec, mu, roughness):
 _MU = Axis("mu", 0.0, 1.0, 48, "log-linear", "cubic")
 _ALPHA = Axis("alpha", 0.0, ALPHA_MAX, 48, "log-linear", "cubic")
 _ALPHA_128 = Axis("alpha", 0.0, ALPHA_MAX, 128, "log-linear", "cubic")
+# the scaling of the glossy multiple reflection changes with alpha faster than the energy
+# (a narrow lobe's kernel): twice the nodes of the energy tables (docs/energy_models.md)
+_ALPHA_MS = Axis("alpha", 0.0, ALPHA_MAX, 96, "log-linear", "cubic")
 # near eta = 1 the energies have structure at eta - 1 ~ mu^2, alpha^2 (the Fresnel knee and
 # the critical angle, ~sqrt(2 (eta - 1)), sweep the lobe): nodes log-spaced in eta - 1 down
 # to 1e-4 (ASM's ior axis: 24 nodes to 4; the dielectric's: 32 nodes to 3, denser at
@@ -348,6 +392,11 @@ SPECS: dict[str, TableSpec] = {s.name: s for s in [
           "mu-averages of ggx_dielectric_outside", depends=("ggx_dielectric_outside",)),
     _spec("ggx_dielectric_inside_avg", (_ALPHA, _ETA), ("E_R_avg", "E_T_avg"), _average,
           "mu-averages of ggx_dielectric_inside", depends=("ggx_dielectric_inside",)),
+    _spec("ggx_dielectric_ms_reflection", (_MU, _ALPHA_MS, _ETA), ("a",), _ms_reflection,
+          "a(mu, alpha, eta) with a(mu_o) int D G2 / (4 mu_o mu_i) a(mu_i) mu_i d wi = "
+          "1 - E_R(mu_o) - E_T(mu_o) of ggx_dielectric_outside (the F = 1 GGX reflection at "
+          "alpha, symmetrically scaled): the shape of lobes.DielectricMultipleReflection",
+          depends=("ggx_dielectric_outside",)),
     _spec("asm_diffuse_L", (_MU, _ROUGHNESS, _IOR), ("L",), _asm_lobe_integral,
           "ASM lobe integral L(mu, roughness, ior) of the dielectric specular reflection "
           "(alpha = roughness^2, exact Fresnel): [Kutz2021, §1.1 eq. 1]"),

@@ -5,6 +5,9 @@ Public API
 ``ggx_energy(mu, alpha, eta=None, order=20)``
     Reflected and transmitted energy E_R, E_T of a GGX conductor (F = 1, ``eta=None``) or
     dielectric interface seen at cos theta_o = ``mu``, with an error estimate per value.
+``ggx_reflection_transfer(mu, alpha, axis, order=20)``
+    The same rule for the F = 1 reflection weighted by a tabulated function of the reflected
+    direction's cosine: a matrix on that table axis's nodes.
 
 The integral is taken over microfacet normals m = (theta_m, phi), weighted by the visible-normal
 density [Heitz2018, eq. 3], i.e. the single-scattering energy of the sampler of
@@ -40,7 +43,7 @@ from scipy.special import roots_legendre
 
 from adobe_bsdf.fresnel import _dielectric
 
-__all__ = ["Energy", "ggx_energy"]
+__all__ = ["Energy", "ggx_energy", "ggx_reflection_transfer"]
 
 #: panels in v = asinh(tan theta_m / alpha) between theta_m = 0 and 45 degrees
 V_PANELS = 10
@@ -170,8 +173,10 @@ def _quadratic(a, b, c):
     return np.stack([r1, r2], axis=-1)
 
 
-def _integrate(mu_o, alpha, eta, order):
-    """E_R, E_T for 1-D node arrays at one quadrature order."""
+def _integrate(mu_o, alpha, eta, order, transfer=None):
+    """E_R, E_T for 1-D node arrays at one quadrature order; with ``transfer`` (an ``Axis``
+    of cos theta, ``eta`` None) the reflection's rule carried onto that axis's nodes instead
+    (``ggx_reflection_transfer``)."""
     n = len(mu_o)
     s_o = np.sqrt(np.maximum(1.0 - mu_o * mu_o, 0.0))
     x, wx = _rule(order)
@@ -220,6 +225,10 @@ def _integrate(mu_o, alpha, eta, order):
         eta5 = eta[:, None, None, None, None]
         F = _dielectric(np.where(front, c, 1.0), eta5)
     val_r = np.where(front & (wr_z > 0.0), F * ratio_cm * _g(mu5, so5, al5, np.abs(wr_z)), 0.0)
+    if transfer is not None:
+        weight = (w_outer[..., None, None] * w_phi * val_r).reshape(n, -1)
+        mu_r = np.clip(wr_z, 0.0, 1.0).reshape(n, -1)
+        return np.stack([transfer.rule_weights(m, w) for m, w in zip(mu_r, weight, strict=True)])
     e_r = np.einsum("npo,npojk,npojk->n", w_outer, w_phi, val_r)
     if eta is None:
         return e_r, np.zeros(n)
@@ -232,6 +241,19 @@ def _integrate(mu_o, alpha, eta, order):
                      (1.0 - F) * ratio_cm * _g(mu5, so5, al5, np.abs(wt_z)), 0.0)
     e_t = np.einsum("npo,npojk,npojk->n", w_outer, w_phi, val_t)
     return e_r, e_t
+
+
+def ggx_reflection_transfer(mu, alpha, axis, order: int = 20) -> np.ndarray:
+    """``(n, axis.n)``: the matrix M with sum_j M_kj a_j = int D_wo(m) G2(wo, wr) / G1(wo)
+    a(wr_z) dm at cos theta_o = ``mu[k]``, for the interpolant a of node values a_j on
+    ``axis`` (a cos theta axis of ``tables.table``): the F = 1 GGX reflection of
+    isotropic roughness ``alpha`` applied to a function of the reflected direction's cosine,
+    by the rule of ``ggx_energy`` (row sums: E of the white conductor). ``mu``, ``alpha``:
+    1-D, alpha > 0."""
+    mu, alpha = np.broadcast_arrays(np.asarray(mu, dtype=np.float64).ravel(),
+                                    np.asarray(alpha, dtype=np.float64).ravel())
+    return np.concatenate([_integrate(mu[k:k + CHUNK], alpha[k:k + CHUNK], None, order, axis)
+                           for k in range(0, len(mu), CHUNK)])
 
 
 def ggx_energy(mu, alpha, eta=None, order: int = 20, estimate: bool = True) -> Energy:
