@@ -87,7 +87,7 @@ def test_film_sampling(p):
 
 
 def test_the_translucent_base_warns_and_the_hazy_gloss_refuses():
-    with pytest.warns(UserWarning, match="thin film is not applied to the translucent"):
+    with pytest.warns(UserWarning, match="thin film is not applied to the bulk"):
         OpenPBRSurface(transmission_weight=0.5, **FILM)
     with pytest.raises(ValueError, match="thin_film_weight"):
         with pytest.warns(DeprecationWarning):

@@ -8,8 +8,9 @@ Public API
                                                   reflections.
 ``SheetReflectance(eta, transmittance)``          R as a ``fresnel.Fresnel`` model.
 ``SheetTransmittance(eta, transmittance)``        T as a ``fresnel.Fresnel`` model.
-``ThinDielectric(eta, alpha_x, alpha_y=None, transmittance=1)``
-                                                  the sheet as a lobe, smooth or rough.
+``ThinDielectric(eta, alpha_x, alpha_y=None, transmittance=1, film=None)``
+                                                  the sheet as a lobe, smooth or rough,
+                                                  with a thin film on its faces or not.
 
 The smooth sheet
 ----------------
@@ -75,7 +76,15 @@ def _transmittance(transmittance) -> np.ndarray:
     return _params.color("transmittance", transmittance, 0.0, 1.0)
 
 
-def sheet_coefficients(cos2, eta, transmittance) -> tuple[np.ndarray, np.ndarray]:
+def _film(film):
+    """``film``, checked to be None or a ``fresnel.Fresnel`` model of known parameter shape."""
+    if film is None or (isinstance(film, Fresnel) and film.param_shape is not None):
+        return film
+    raise ValueError(f"film = {film!r}: allowed None or a fresnel.Fresnel model, e.g. "
+                     "thin_film.ThinFilm(thickness_nm, film_ior, eta)")
+
+
+def sheet_coefficients(cos2, eta, transmittance, film=None) -> tuple[np.ndarray, np.ndarray]:
     """``(R, T)``, each ``(..., 3)`` in [0, 1], of a smooth sheet of relative index ``eta``
     (validated, (0, inf)) and normal-incidence one-pass transmittance ``transmittance``
     (a validated colour ``(..., 3)`` in [0, 1]) entered at cos^2 theta = ``cos2`` in [0, 1]
@@ -86,6 +95,18 @@ def sheet_coefficients(cos2, eta, transmittance) -> tuple[np.ndarray, np.ndarray
     Degenerate cases, explicitly: F = 1 and tau = 1 (total reflection at the entry of a clear
     sheet, or a grazing cosine) give R = 1, T = 0; A = 1 gives tau = 1 even where
     cos theta_t = 0; A = 0 gives tau = 0.
+
+    With ``film`` (a ``fresnel.Fresnel`` model of the film on the sheet's face, e.g.
+    ``thin_film.ThinFilm(d, n_film, eta)``) the face the light meets first reflects
+    F_1 = film(cos theta) (the same from inside: a non-absorbing film reflects alike from
+    both sides at corresponding angles), the other face F_2 = F:
+
+        T = (1 - F_1)(1 - F_2) tau / (1 - F_1 F_2 tau^2),
+        R = F_1 + (1 - F_1)^2 F_2 tau^2 / (1 - F_1 F_2 tau^2),
+
+    so R + T = 1 for a clear sheet, T is the same from either face (reciprocity), and at
+    eta = 1 (no faces of its own) the sheet is the film alone: R = F_1, T = 1 - F_1 (a soap
+    bubble) [OpenPBR2026, §Thin-film iridescence].
     """
     cos2 = np.asarray(cos2, dtype=np.float64)
     k, eta2 = _k_of_indices(eta), eta * eta
@@ -95,6 +116,8 @@ def sheet_coefficients(cos2, eta, transmittance) -> tuple[np.ndarray, np.ndarray
         log_a = np.log(transmittance)  # -inf where A = 0
         exponent = pick(transmittance == 1.0, 0.0, log_a / np.sqrt(inside))
     tau, loss = np.exp(exponent), -np.expm1(exponent)  # tau and 1 - tau
+    if film is not None:
+        return _filmed(np.asarray(film.from_cos2(cos2), dtype=np.float64), F, tau, exponent)
     den = ((1.0 - F) + F * loss) * (1.0 + F * tau)  # 1 - F^2 tau^2
     with np.errstate(divide="ignore", invalid="ignore"):
         T = pick(den > 0.0, np.square(1.0 - F) * tau / den, 0.0)
@@ -102,24 +125,41 @@ def sheet_coefficients(cos2, eta, transmittance) -> tuple[np.ndarray, np.ndarray
     return np.minimum(F + F * tau * T, 1.0), T
 
 
+def _filmed(F1, F2, tau, exponent):
+    """``(R, T)`` of the sheet whose first face reflects ``F1`` (the film) and second ``F2``
+    (``sheet_coefficients``), free of cancellation: 1 - F_1 F_2 tau^2 = (1 - F_1) +
+    F_1 ((1 - F_2) + F_2 (1 - tau^2)), every term >= 0; where it is 0, F_1 = 1: R = 1,
+    T = 0."""
+    loss2 = -np.expm1(2.0 * exponent)  # 1 - tau^2
+    den = (1.0 - F1) + F1 * ((1.0 - F2) + F2 * loss2)
+    ok = den > 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        T = pick(ok, (1.0 - F1) * (1.0 - F2) * tau / den, 0.0)
+        R = F1 + pick(ok, np.square(1.0 - F1) * F2 * (tau * tau) / den, 0.0)
+    return np.minimum(R, 1.0), np.minimum(T, 1.0)
+
+
 class _Sheet(Fresnel):
     """One of the sheet's coefficients (``_part``: 0 for R, 1 for T) as a Fresnel model."""
 
     _part = 0
 
-    def __init__(self, eta, transmittance=1.0):
-        self._init(_eta(eta), _transmittance(transmittance))
+    def __init__(self, eta, transmittance=1.0, film=None):
+        self._init(_eta(eta), _transmittance(transmittance), _film(film))
 
-    def _init(self, eta, transmittance):
-        self.eta, self.transmittance = eta, transmittance
+    def _init(self, eta, transmittance, film=None):
+        self.eta, self.transmittance, self.film = eta, transmittance, film
         #: batch shape of the parameters (beyond the colour axis)
-        self.param_shape = np.broadcast_shapes(eta.shape, transmittance.shape[:-1])
+        self.param_shape = np.broadcast_shapes(eta.shape, transmittance.shape[:-1],
+                                               () if film is None else film.param_shape)
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}(eta={self.eta}, transmittance={self.transmittance})"
+        film = "" if self.film is None else f", film={self.film!r}"
+        return (f"{type(self).__name__}(eta={self.eta}, transmittance={self.transmittance}"
+                f"{film})")
 
     def from_cos2(self, c2) -> np.ndarray:
-        return sheet_coefficients(c2, self.eta, self.transmittance)[self._part]
+        return sheet_coefficients(c2, self.eta, self.transmittance, self.film)[self._part]
 
 
 class SheetReflectance(_Sheet):
@@ -132,6 +172,8 @@ class SheetReflectance(_Sheet):
         Index of the sheet over that of its surroundings.
     transmittance : colour in [0, 1]
         One-pass internal transmittance at normal incidence (1: clear).
+    film : fresnel.Fresnel, optional
+        The thin film on the face met first (``sheet_coefficients``).
     """
 
 
@@ -142,7 +184,7 @@ class SheetTransmittance(_Sheet):
     _part = 1
 
 
-def _hemispherical_averages(eta, transmittance):
+def _hemispherical_averages(eta, transmittance, film=None):
     """``(R_avg, T_avg)`` ``(..., 3)``: 2 int_0^1 X(mu) mu dmu of the sheet's coefficients.
 
     Where eta < 1 the cosines below the critical one, mu_c = sqrt(1 - eta^2), reflect totally
@@ -153,7 +195,7 @@ def _hemispherical_averages(eta, transmittance):
     x, w = (a.reshape((-1,) + (1,) * ndim) for a in (0.5 * (x + 1.0), 0.5 * w))
     mu_c = np.sqrt(np.maximum(-_k_of_indices(eta), 0.0))  # 0 where eta >= 1
     mu = mu_c + (1.0 - mu_c) * x
-    R, T = sheet_coefficients(mu * mu, eta, transmittance)
+    R, T = sheet_coefficients(mu * mu, eta, transmittance, film)
     weight = (2.0 * w * mu * (1.0 - mu_c))[..., None]
     total = mu_c * mu_c
     return (weight * R).sum(0) + total[..., None], (weight * T).sum(0)
@@ -188,29 +230,36 @@ class ThinDielectric(Facing):
         GGX roughness of both faces (``alpha_y`` defaults to ``alpha_x``).
     transmittance : colour in [0, 1]
         One-pass internal transmittance at normal incidence; 1 is a clear sheet.
+    film : fresnel.Fresnel, optional
+        A thin film on the faces (``thin_film.ThinFilm(d, n_film, eta)``), met first from
+        either side (``sheet_coefficients``): it colours both the reflection and the
+        transmission, and a clear sheet keeps R + T = 1. With a film, an index-1 sheet has
+        faces (the film's): a soap bubble, rough where the alphas are.
     """
 
-    def __init__(self, eta, alpha_x, alpha_y=None, transmittance=1.0):
+    def __init__(self, eta, alpha_x, alpha_y=None, transmittance=1.0, film=None):
         eta = _eta(eta)
         transmittance = _transmittance(transmittance)
-        self._init_sheet(eta, GGX(alpha_x, alpha_y), transmittance)
+        self._init_sheet(eta, GGX(alpha_x, alpha_y), transmittance, _film(film))
 
-    def _init_sheet(self, eta, distribution: GGX, transmittance):
+    def _init_sheet(self, eta, distribution: GGX, transmittance, film=None):
         #: the sheet's relative index (n_sheet / n_surroundings)
         self.sheet_eta = eta
         self.transmittance = transmittance
-        if np.any(eta == 1.0):  # no faces: smooth where eta is 1
+        #: the film on its faces (None: none)
+        self.film = film
+        if film is None and np.any(eta == 1.0):  # no faces: smooth where eta is 1
             distribution = GGX._new(*(pick(eta == 1.0, 0.0, a) for a in
                                       (distribution.alpha_x, distribution.alpha_y)),
                                     distribution.masking)
         self.distribution = distribution
         #: the single-scattering reflection and (unflipped) transmission lobes
-        self.single = (Conductor._new(distribution, SheetReflectance._new(eta, transmittance)),
-                       Conductor._new(distribution, SheetTransmittance._new(eta, transmittance)))
+        self.single = tuple(Conductor._new(distribution, part._new(eta, transmittance, film))
+                            for part in (SheetReflectance, SheetTransmittance))
         components, weights = [self.single[0], Flipped._new(self.single[1])], [None, None]
         if not np.all(distribution.smooth):
             ms = ConductorMultipleScattering._new(distribution, np.ones(3))
-            averages = _hemispherical_averages(eta, transmittance)
+            averages = _hemispherical_averages(eta, transmittance, film)
             components += [ms, Flipped._new(ms)]
             weights += list(averages)
             self._multiple = (ms, averages[0] + averages[1])
@@ -254,5 +303,6 @@ class ThinDielectric(Facing):
 
     def __repr__(self) -> str:
         d = self.distribution
+        film = "" if self.film is None else f", film={self.film!r}"
         return (f"ThinDielectric(eta={self.sheet_eta}, alpha_x={d.alpha_x}, "
-                f"alpha_y={d.alpha_y}, transmittance={self.transmittance})")
+                f"alpha_y={d.alpha_y}, transmittance={self.transmittance}{film})")

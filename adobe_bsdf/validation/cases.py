@@ -345,6 +345,18 @@ _CASES = (
                                      specular_roughness=0.4, thin_film_weight=1.0,
                                      thin_film_thickness=0.4, thin_film_ior=1.5),
               cos_theta_o=(1.0, 0.5, 0.1), tags=_TABLES),
+    CheckCase("OpenPBR thin-film dielectric d=0.3um n=1.33",
+              lambda: OpenPBRSurface(base_color=(0.2, 0.3, 0.5), specular_roughness=0.3,
+                                     thin_film_weight=1.0, thin_film_thickness=0.3,
+                                     thin_film_ior=1.33),
+              cos_theta_o=(1.0, 0.5, 0.1), tags=_TABLES, reciprocal=False),
+    CheckCase("OpenPBR soap bubble r=0.2 d=0.4um",
+              lambda: OpenPBRSurface(geometry_thin_walled=True, transmission_weight=1.0,
+                                     transmission_color=1.0, specular_ior=1.0,
+                                     specular_roughness=0.2, thin_film_weight=1.0,
+                                     thin_film_thickness=0.4, thin_film_ior=1.33),
+              cos_theta_o=(1.0, 0.5, -0.3), expected_albedo=_one,
+              furnace_tol=FURNACE_TOL_DIELECTRIC, tags=_TABLES),
 )
 
 

@@ -307,8 +307,9 @@ class OpenPBRSurface(Material):
         the medium above it, n_above =
         lerp(1, coat_ior, coat_weight) (the blend the base's own index takes under a partial
         coat, ``mapping.effective_ior``). Not with the hazy gloss of [Barla2018] (its
-        Fresnel is its own), nor on the translucent base (``DielectricMS`` takes an index,
-        not a Fresnel model): that warns."""
+        Fresnel is its own), nor on the bulk translucent base (``DielectricMS`` takes an
+        index, not a Fresnel model): that warns. On the thin-walled one it is on the sheet's
+        faces (``ThinDielectric(film=)``)."""
         p = self.params
         w = p["thin_film_weight"]
         if not _any(w * p["thin_film_thickness"]):  # no film, or one of thickness 0
@@ -316,10 +317,12 @@ class OpenPBRSurface(Material):
         if self._hazy and self.haze_model == "barla2018":
             raise ValueError("thin_film_weight > 0 with haze_model = 'barla2018': allowed "
                              "thin_film_weight = 0 (the hazy gloss has a Fresnel of its own)")
-        if _any(w * p["transmission_weight"] * (1.0 - p["base_metalness"])):
-            warnings.warn("OpenPBRSurface: the thin film is not applied to the translucent "
-                          "base (transmission_weight > 0): its refraction has no Fresnel "
-                          "model to carry it (docs/openpbr.md)", stacklevel=3)
+        if not self.thin_walled and _any(w * p["transmission_weight"]
+                                         * (1.0 - p["base_metalness"])):
+            warnings.warn("OpenPBRSurface: the thin film is not applied to the bulk "
+                          "translucent base (transmission_weight > 0, not thin-walled): its "
+                          "refraction has no Fresnel model to carry it (docs/openpbr.md)",
+                          stacklevel=3)
         n_above = 1.0 if coat_weight is None else 1.0 + coat_weight * (p["coat_ior"] - 1.0)
         return w, 1000.0 * p["thin_film_thickness"], p["thin_film_ior"] / n_above
 
@@ -440,12 +443,22 @@ class OpenPBRSurface(Material):
             if barla:
                 glass = self._barla(HazyDielectric, mapping.reflectance_at_normal(eta), r)
             elif self.thin_walled:
-                glass = self._hazed(lambda alphas: ThinDielectric(
-                    eta, *alphas, transmittance=p["transmission_color"]), r)
+                glass = self._hazed(self._sheet(eta, None), r)
+                if self._film is not None:
+                    w, d, n_film = self._film
+                    glass = _mix(glass, self._hazed(self._sheet(eta, ThinFilm(d, n_film, eta)),
+                                                    r), w)
             else:
                 glass = self._hazed(lambda alphas: self._glass(eta, GGX._new(*alphas)), r)
             built["transmission"] = _turned(self._retro(glass), phi)
         return _mix(opaque, built.get("transmission"), T)
+
+    def _sheet(self, eta, film):
+        """``make(alphas)`` of the thin-walled translucent base: ``ThinDielectric`` of
+        transmission_color, with the thin film ``film`` on its faces (None: none)
+        [OpenPBR2026, §Thin-walled mode, §Thin-film iridescence]."""
+        color = self.params["transmission_color"]
+        return lambda alphas: ThinDielectric(eta, *alphas, transmittance=color, film=film)
 
     def _glass(self, eta, microfacets):
         """The bulk translucent base: ``DielectricMS`` at ``eta``, its refraction tinted by
