@@ -73,12 +73,22 @@ def metal_ior(name: str):
     return data[:, 0].copy(), data[:, 1].copy(), data[:, 2].copy()
 
 
+def colour_science():
+    """The colour-science module, imported on first use, with numpy's print options as they
+    were: its import sets legacy printing ("1.13") for every caller (and it notes that its
+    optional plotting is unavailable: silenced)."""
+    options = np.get_printoptions()
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message='"Matplotlib" related API features')
+        import colour
+    np.set_printoptions(**options)
+    return colour
+
+
 @functools.lru_cache(maxsize=8)
 def _weights(illuminant: str):
     """(1 nm grid, S cmf / sum S ybar (3, n), BT.709 XYZ -> RGB, RGB of the white)."""
-    with warnings.catch_warnings():  # colour-science's notice about its optional plotting
-        warnings.filterwarnings("ignore", message='"Matplotlib" related API features')
-        import colour
+    colour = colour_science()
 
     if illuminant not in colour.SDS_ILLUMINANTS:
         raise ValueError(f"illuminant = {illuminant!r} is not a colour-science illuminant "

@@ -86,8 +86,9 @@ def test_film_sampling(p):
                             n_samples=40_000)
 
 
-def test_the_translucent_base_warns_and_the_hazy_gloss_refuses():
-    with pytest.warns(UserWarning, match="thin film is not applied to the bulk"):
+def test_the_translucent_base_takes_it_and_the_hazy_gloss_refuses():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no warning drops the film
         OpenPBRSurface(transmission_weight=0.5, **FILM)
     with pytest.raises(ValueError, match="thin_film_weight"):
         with pytest.warns(DeprecationWarning):

@@ -46,6 +46,7 @@ from adobe_bsdf import _params
 from adobe_bsdf.materials.openpbr import PARAMETERS, OpenPBRSurface
 from adobe_bsdf.materials.openpbr.material import versions
 from adobe_bsdf.materials.openpbr.parameters import DEV_1_2
+from adobe_bsdf.spectral import colour_science
 
 __all__ = ["load_mtlx", "save_mtlx", "MtlxResult", "MtlxMaterial", "MtlxWarning",
            "COLOR_SPACES", "WORKING_SPACE", "CHROMATIC_ADAPTATION", "ROUND_OFF"]
@@ -208,8 +209,7 @@ def _describe(space: str) -> str:
 def _matrix(space: str) -> np.ndarray:
     """The 3x3 matrix from the linear RGB of ``space`` to lin_rec709: colour-science's
     ``matrix_RGB_to_RGB`` (what its ``RGB_to_RGB`` applies) with the Bradford adaptation."""
-    import colour
-
+    colour = colour_science()
     return np.asarray(colour.matrix_RGB_to_RGB(
         COLOR_SPACES[space][0], COLOR_SPACES[WORKING_SPACE][0],
         chromatic_adaptation_transform=CHROMATIC_ADAPTATION), dtype=np.float64)
@@ -217,8 +217,7 @@ def _matrix(space: str) -> np.ndarray:
 
 def _to_working(rgb: np.ndarray, space: str) -> np.ndarray:
     """``rgb`` of MaterialX colour space ``space`` in lin_rec709."""
-    import colour
-
+    colour = colour_science()
     primaries, decoding = COLOR_SPACES[space]
     if decoding == "sRGB":
         rgb = colour.cctf_decoding(rgb, function="sRGB")
@@ -234,8 +233,7 @@ def _from_working(rgb: np.ndarray, space: str) -> np.ndarray:
     """The inverse of ``_to_working``: lin_rec709 into ``space`` (the inverse matrix, so a
     round trip returns the colour to round-off: colour-science's published RGB <-> XYZ
     matrices of some spaces are not exact inverses of each other)."""
-    import colour
-
+    colour = colour_science()
     primaries, decoding = COLOR_SPACES[space]
     if primaries != COLOR_SPACES[WORKING_SPACE][0]:
         rgb = np.linalg.solve(_matrix(space), np.asarray(rgb, dtype=np.float64))

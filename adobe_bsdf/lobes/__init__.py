@@ -58,6 +58,7 @@ from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 
 __all__ = ["Lambert", "MicrofacetReflection", "Conductor", "DielectricReflection", "Dielectric",
            "ReferencedReflection", "Dispersive", "ConductorMultipleScattering", "ConductorMS",
-           "DielectricMultipleScattering", "DielectricMultipleReflection", "DielectricMS", "Sheen", "HazyGloss",
+           "DielectricMultipleScattering", "DielectricMultipleReflection", "DielectricMS",
+           "Sheen", "HazyGloss",
            "HazyDielectric", "EnergyPreservingOrenNayar", "EON", "LTCSheen", "PassThrough",
            "ThinDielectric", "TintedRefraction", "Retroreflective"]

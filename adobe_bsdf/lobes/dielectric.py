@@ -9,7 +9,7 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
-from adobe_bsdf.fresnel import _dielectric_k, _k_of_indices
+from adobe_bsdf.fresnel import Fresnel, _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import (
     MIN_TRANSMISSION_WIDTH,
     dielectric_energy,
@@ -24,6 +24,14 @@ __all__ = ["Dielectric", "interface_energy_scale", "passes_through", "MIN_TRANSM
 def _eta(eta) -> np.ndarray:
     """A relative index n_below / n_above, validated: (0, inf)."""
     return _params.real("eta", eta, 0.0, np.inf, lo_open=True)
+
+
+def _film(film):
+    """``film``, checked to be None or a ``fresnel.Fresnel`` model of known parameter shape."""
+    if film is None or (isinstance(film, Fresnel) and film.param_shape is not None):
+        return film
+    raise ValueError(f"film = {film!r}: allowed None or a fresnel.Fresnel model, e.g. "
+                     "thin_film.ThinFilm(thickness_nm, film_ior, eta)")
 
 
 def _mirror_z(w, s):
@@ -90,28 +98,57 @@ class Dielectric(Lobe):
     flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.GLOSSY | Flags.DELTA
 
     def __init__(self, eta, alpha_x, alpha_y=None, masking: str = "correlated",
-                 model: str = "ggx"):
-        self._init(_eta(eta), distribution(model, alpha_x, alpha_y, masking))
+                 model: str = "ggx", film=None):
+        self._init(_eta(eta), distribution(model, alpha_x, alpha_y, masking), _film(film))
 
     @classmethod
-    def over(cls, eta, microfacets) -> Dielectric:
+    def over(cls, eta, microfacets, film=None) -> Dielectric:
         """The interface of index ``eta`` over ``microfacets``, any distribution of
         ``adobe_bsdf.microfacet``."""
-        return cls._new(_eta(eta), microfacets)
+        return cls._new(_eta(eta), microfacets, _film(film))
 
-    def _init(self, eta, microfacets):
+    def _init(self, eta, microfacets, film=None):
         self.eta = eta
         self.distribution = microfacets
+        #: the thin film on the interface (a ``fresnel.Fresnel`` model of the cosine above
+        #: it), or None
+        self.film = film
+        self._film_energy = None  # its energy difference, built on first use
         #: where the interface is a pass-through (``passes_through``)
         self.passes = passes_through(self.eta, microfacets)
         #: table albedo from the lobe's slice where anisotropic (``config`` anisotropic_energy)
         self.exact = exact_anisotropic(microfacets)
 
     def __repr__(self) -> str:
-        return f"{type(self).__name__}.over({self.eta!r}, {self.distribution!r})"
+        film = "" if self.film is None else f", film={self.film!r}"
+        return f"{type(self).__name__}.over({self.eta!r}, {self.distribution!r}{film})"
 
     def _param_shape(self):
-        return np.broadcast_shapes(self.eta.shape, self.distribution.param_shape)
+        film = () if self.film is None else self.film.param_shape
+        return np.broadcast_shapes(self.eta.shape, self.distribution.param_shape, film)
+
+    # -- the thin film: its reflectance in place of F, per channel -------------------------
+    def _film_ratio(self, F, cos_above, reflection, batch=None, index=None):
+        """``(..., 3)``: F_film / F (reflection) or (1 - F_film) / (1 - F) (refraction), the
+        factor that turns the film-free f and sample weights into the film's, F_film the
+        film's reflectance at the facet cosine above the interface ``cos_above`` (NaN where
+        the light reflects totally: F_film = F = 1 there, the factor 1; a lossless film
+        reflects alike from both sides at corresponding angles, so either side's light
+        reads it there). With ``index``, the pairs ``index`` of the flattened ``batch`` (a
+        film of array parameters is evaluated on the whole batch and gathered)."""
+        c2 = np.square(np.nan_to_num(cos_above, nan=1.0))
+        film = self.film
+        if index is not None and film.param_shape != ():
+            full = np.ones(math.prod(batch))
+            full[index] = c2
+            F_film = np.asarray(film.from_cos2(full.reshape(batch))).reshape(-1, 3)[index]
+        else:
+            F_film = np.asarray(film.from_cos2(c2), dtype=np.float64)
+        total = np.isnan(cos_above)[..., None]
+        F = np.asarray(F, dtype=np.float64)[..., None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = (F_film / F) if reflection else (1.0 - F_film) / (1.0 - F)
+        return np.where(total, 1.0, np.where(np.isfinite(ratio), ratio, 0.0))
 
     # -- eval and pdf: the pairs in four groups, each with its side's constants ----------
     def _eval(self, wo, wi):
@@ -136,7 +173,7 @@ class Dielectric(Lobe):
         n = math.prod(batch)
         wo = np.broadcast_to(wo, batch + (3,)).reshape(n, 3)
         wi = np.broadcast_to(wi, batch + (3,)).reshape(n, 3)
-        f = np.zeros(n) if want_f else None
+        f = (np.zeros(n) if self.film is None else np.zeros((n, 3))) if want_f else None
         pdf = np.zeros(n) if want_pdf else None
         scalar = self._param_shape() == ()
         if not (scalar and (self.passes or self.distribution.smooth)):
@@ -154,7 +191,8 @@ class Dielectric(Lobe):
                     if len(index):
                         self._group(wo, wi, batch, index, side, reflection, f, pdf)
         if f is not None:
-            f = np.broadcast_to(f.reshape(batch)[..., None], batch + (3,))
+            f = (np.broadcast_to(f.reshape(batch)[..., None], batch + (3,)) if f.ndim == 1
+                 else f.reshape(batch + (3,)))
         return f, None if pdf is None else pdf.reshape(batch)
 
     def _group(self, wo, wi, batch, index, side, reflection, f, pdf):
@@ -177,25 +215,30 @@ class Dielectric(Lobe):
         ix, iy, zi = wi[:, 0], wi[:, 1], wi[:, 2]
         s_o = d.projected(ox, oy, zo)
         if reflection:
-            value, P = self._reflect(d, eta, side, ox, oy, zo, ix, iy, zi, s_o)
+            value, P, F, cos_above = self._reflect(d, eta, side, ox, oy, zo, ix, iy, zi, s_o)
         else:
-            value, P = self._refract(d, eta, side, ox, oy, zo, ix, iy, zi, s_o,
-                                     f is not None, pdf is not None)
+            value, P, F, cos_above = self._refract(d, eta, side, ox, oy, zo, ix, iy, zi, s_o,
+                                                   f is not None, pdf is not None)
         if d.smooth.ndim or self.eta.ndim:  # a texture: smooth or pass-through elements
             off = d.smooth | (self.passes if self.passes.ndim == 0 else np.broadcast_to(
                 self.passes, batch).reshape(-1)[index])
             value = [None if v is None else pick(off, 0.0, v) for v in value]
         if f is not None:
-            f[index] = saturated(value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi)))
+            V = saturated(value[0] * d.V_of(zo, s_o, np.abs(zi), d.projected(ix, iy, zi)))
+            if self.film is not None:
+                V = V[:, None] * self._film_ratio(F, cos_above, reflection, batch, index)
+            f[index] = V
         if pdf is not None:
             pdf[index] = P * value[1]
 
     @staticmethod
     def _reflect(d, eta, side, ox, oy, zo, ix, iy, zi, s_o):
-        """Reflection (both directions above, after mirroring): ``([F D, F], P)`` with
-        h = wo + wi, F at wo.h = |wo + wi| / 2 (bitwise symmetric in wo, wi) from the side
-        of ``wo`` (total internal reflection included) and P = D_wo(h) / (4 wo.h) =
-        D(h) / (2 (|cos o| + S(wo))) [Heitz2018, eq. 3]."""
+        """Reflection (both directions above, after mirroring): ``([F D, F], P, F,
+        cos_light)`` with h = wo + wi, F at wo.h = |wo + wi| / 2 (bitwise symmetric in wo,
+        wi) from the side of ``wo`` (total internal reflection included),
+        P = D_wo(h) / (4 wo.h) = D(h) / (2 (|cos o| + S(wo))) [Heitz2018, eq. 3] and
+        cos_above the cosine at the facet above the interface (Snell's law; NaN under total
+        internal reflection), where a film's reflectance is read."""
         hx = ox + ix
         hy = oy + iy
         hz = zo + zi
@@ -203,14 +246,23 @@ class Dielectric(Lobe):
         length2 += hy * hy
         length2 += hz * hz
         k, eta2 = _seen_from(eta, side)
-        F = _dielectric_k(0.5 * np.sqrt(length2), k, eta2)
+        c = 0.5 * np.sqrt(length2)
+        F = _dielectric_k(c, k, eta2)
         D = d.D_of_sum(hx, hy, hz, length2, upper=True)
-        return [F * D, F], D / (2.0 * (zo + s_o))
+        # c^2 on the other side: 1 - (1 - c^2) / eta_rel^2 = (k + c^2) / eta_rel^2
+        if side > 0.0:
+            cos_above = c
+        else:
+            other2 = (k + c * c) / eta2
+            with np.errstate(invalid="ignore"):
+                cos_above = np.where(other2 > 0.0, np.sqrt(other2), np.nan)
+        return [F * D, F], D / (2.0 * (zo + s_o)), F, cos_above
 
     def _refract(self, d, eta, side, ox, oy, zo, ix, iy, zi, s_o, want_f, want_pdf):
         """Refraction (``wo`` above, ``wi`` below, after mirroring): ``([eta_o^2 T D,
-        eta_i^2 T], P)`` with the generalized half vector h = -(eta_o wo + eta_i wi) turned
-        up, T = 4 (wo.h) |wi.h| (1 - F) / (eta_o wo.h + eta_i wi.h)^2 and F at the cosine on
+        eta_i^2 T], P, F, cos_above)`` (cos_above: the facet cosine above) with the
+        generalized half vector h = -(eta_o wo + eta_i wi) turned up,
+        T = 4 (wo.h) |wi.h| (1 - F) / (eta_o wo.h + eta_i wi.h)^2 and F at the cosine on
         the less dense side (Stokes: the same value as from the other side; there F is
         smooth, with no total-internal-reflection edge). Facets must face ``wo`` and be
         seen from below by ``wi``."""
@@ -240,8 +292,10 @@ class Dielectric(Lobe):
         valid = (cos_oh > 0.0) & (cos_ih < 0.0)
         T = pick(valid, T, 0.0)
         D = d.D_of_sum(hx, hy, np.abs(hz), length2, upper=True)  # the horizon's limit at hz = 0
-        return [eta_o * eta_o * T * D if want_f else None,
-                eta_i * eta_i * T if want_pdf else None], D / (2.0 * (zo + s_o))
+        cos_above = np.abs(cos_oh if side > 0.0 else cos_ih)
+        return ([eta_o * eta_o * T * D if want_f else None,
+                 eta_i * eta_i * T if want_pdf else None], D / (2.0 * (zo + s_o)), F,
+                cos_above)
 
     def _energy_scale(self, wo, wi):
         return interface_energy_scale(self.eta, wo, wi)
@@ -249,9 +303,50 @@ class Dielectric(Lobe):
     def _albedo_table(self, wo, with_error=True):
         """E_R + E_T of the tables of ``adobe_bsdf.tables`` at alpha = sqrt(alpha_x alpha_y),
         or of the lobe's slice where anisotropic and built exact (1 where the interface is
-        smooth or index-matched)."""
-        return tuple(map(grey, dielectric_energy(self.eta, self.distribution, wo, with_error,
-                                                 self.exact)))
+        smooth or index-matched); with a film, plus its Delta (``film_energy``)."""
+        E, error = map(grey, dielectric_energy(self.eta, self.distribution, wo, with_error,
+                                               self.exact))
+        energy = self.film_energy()
+        if energy is not None:
+            light = (wo[..., 2] > 0.0) == (self.eta >= 1.0)
+            rough = (wo[..., 2] != 0.0) & ~self.distribution.smooth & ~self.passes
+            E = E + np.where(rough[..., None], energy(np.abs(wo[..., 2]), light), 0.0)
+        return E, error
+
+    def film_reflectance(self, wo) -> np.ndarray:
+        """``(..., 3)``: the film's reflectance for light along ``wo`` meeting the mean plane
+        (a smooth interface's F), read at the cosine above the interface (1 under total
+        internal reflection)."""
+        mu = np.abs(wo[..., 2])
+        below = wo[..., 2] < 0.0
+        with np.errstate(invalid="ignore"):
+            # from below, index eta: 1 - eta^2 (1 - mu^2) above
+            above2 = 1.0 - self.eta * self.eta * (1.0 - mu * mu)
+        c2 = np.where(below, np.maximum(above2, 0.0), mu * mu)
+        F_film = np.asarray(self.film.from_cos2(c2), dtype=np.float64)
+        return np.where((below & (above2 <= 0.0))[..., None], 1.0, F_film)
+
+    def film_energy(self):
+        """The film's ``film_energy.FilmEnergy`` (built on the first call), or None without
+        a film, where the interface is smooth or index-matched, or its parameters are
+        arrays (``ValueError``: the energy is tabulated once per lobe)."""
+        if self.film is None or np.all(self.distribution.smooth) or np.all(self.passes):
+            return None
+        if self._film_energy is None:
+            from adobe_bsdf.lobes.energy_lookup import checked_ratio, table_alpha
+            from adobe_bsdf.lobes.film_energy import FilmEnergy
+
+            if not (np.ndim(self.eta) == 0 and self.film.param_shape == ()
+                    and self.distribution.param_shape == ()):
+                raise ValueError(
+                    "film: a thin film on a rough translucent interface needs scalar "
+                    "parameters (its energy is tabulated once per lobe); allowed scalar "
+                    f"eta, alphas and film, got eta shape {np.shape(self.eta)}, alphas "
+                    f"{self.distribution.param_shape}, film {self.film.param_shape}")
+            self._film_energy = FilmEnergy(float(table_alpha(self.distribution)),
+                                           float(checked_ratio(self.eta)), self.film,
+                                           bool(self.eta >= 1.0))
+        return self._film_energy
 
     # -- sampling -------------------------------------------------------------------------
     def _sample(self, wo, u):
@@ -298,6 +393,13 @@ class Dielectric(Lobe):
             if any_smooth:
                 pdf = pick(smooth, pick(choose_r, F, 1.0 - F), pdf)
         weight = pick(choose_r, g, g / (eta * eta))  # radiance: eta_o^2 / eta_i^2
+        if self.film is not None:  # chosen by the film-free F: weigh by the film's factor
+            c_above = pick(below, cos_t, cos_om) if any_below else cos_om
+            c_above = pick(refracted | ~below, c_above, np.nan)
+            weight = (np.broadcast_to(weight, shape)[..., None]
+                      * np.where(choose_r[..., None],
+                                 self._film_ratio(F, c_above, True),
+                                 self._film_ratio(F, c_above, False)))
         lobe = pick(smooth, int(Flags.DELTA), int(Flags.GLOSSY)) if any_smooth else int(
             Flags.GLOSSY)
         flags = lobe | pick(choose_r, int(Flags.REFLECTION), int(Flags.TRANSMISSION))
@@ -314,8 +416,10 @@ class Dielectric(Lobe):
         flags = pick(ok, flags, int(Flags.NONE))
         pdf, flags = (x if x.shape == shape else np.array(np.broadcast_to(x, shape))
                       for x in (pdf, flags))  # (the arrays are this call's own)
-        return finished_sample(wi, np.repeat(np.broadcast_to(weight, shape)[..., None], 3,
-                                             axis=-1), pdf, flags, fresh=True)
+        weight = (np.repeat(np.broadcast_to(weight, shape)[..., None], 3, axis=-1)
+                  if np.ndim(weight) == len(shape) or np.shape(weight)[-1:] != (3,)
+                  or self.film is None else np.array(np.broadcast_to(weight, shape + (3,))))
+        return finished_sample(wi, weight, pdf, flags, fresh=True)
 
     def _pass_energy(self, ox, oy, zo):
         """Energy a pass-through carries from ``wo`` (``zo`` = |cos o| > 0): 1 where

@@ -97,12 +97,18 @@ class Dispersive(Lobe):
         self._init(eta, dispersion, distribution(model, alpha_x, alpha_y, masking),
                    wavelengths(wavelengths_nm))
 
-    def _init(self, eta, dispersion, microfacets, wavelengths_nm=_RGB_NM):
+    def _init(self, eta, dispersion, microfacets, wavelengths_nm=_RGB_NM, film=None):
+        """``film``: None, or ``film(eta_c)``, the thin film over a channel's index (a
+        ``fresnel.Fresnel`` model; ``Dielectric(film=)``); channel c reads channel c of its
+        film's colour."""
         self.dispersion = dispersion
         #: eta_c, ``(..., 3)``
         self.eta = _channel_indices(eta, dispersion, wavelengths_nm)
         self.distribution = microfacets
-        self.channels = tuple(Dielectric._new(self.eta[..., c], microfacets) for c in _CHANNELS)
+        self.channels = tuple(
+            Dielectric._new(self.eta[..., c], microfacets,
+                            None if film is None else film(self.eta[..., c]))
+            for c in _CHANNELS)
         same = (self.eta[..., 0] == self.eta[..., 1]) & (self.eta[..., 1] == self.eta[..., 2])
         #: the one ``Dielectric`` all channels share where nothing disperses, else None
         self.single = self.channels[0] if np.all(same) else None
@@ -220,7 +226,9 @@ class Dispersive(Lobe):
         sum_c p_c P_c over those, weight T_c / eta_c'^2 / that (radiance: eta_c' = eta_c
         from the side of ``wo``), where a smooth channel has P_c = T_c = 1 - F_c and a
         pass-through P_c = 1, T_c its energy (``Dielectric._pass_energy``) and F_c = 0.
-        F_c = ``fresnel.dielectric`` at cos theta_o (1 under total internal reflection).
+        F_c = ``fresnel.dielectric`` at cos theta_o (1 under total internal reflection); with a
+        film, the values (not the probabilities) take its reflectance R_c in place of F_c
+        and T_c = 1 - R_c.
         """
         below = (wo[..., 2] < 0.0)[..., None]
         eta = pick(below, 1.0 / self.eta, self.eta)  # far side / wo's side, per channel
@@ -240,7 +248,13 @@ class Dispersive(Lobe):
             return np.take_along_axis(np.broadcast_to(x, shape), k[..., None], -1)
 
         shared = (eta == of_k(eta)) | (passes & of_k(passes))
-        value = pick(reflected, F, pick(shared, T, 0.0) / (eta * eta))
+        R = F
+        if self.channels[0].film is not None:  # the film's reflectance in place of F
+            R = np.stack([ch.film_reflectance(wo)[..., c]
+                          for c, ch in zip(_CHANNELS, self.channels, strict=True)], -1)
+            R = pick(passes, 0.0, R)
+            T = pick(passes, T, 1.0 - R)
+        value = pick(reflected, R, pick(shared, T, 0.0) / (eta * eta))
         mass = (p * pick(reflected, F, pick(shared, P, 0.0))).sum(axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):
             return value / mass[..., None], mass

@@ -31,11 +31,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from adobe_bsdf import _params, tables
+from adobe_bsdf import _memo, _params, tables
 from adobe_bsdf._channels import pick
 from adobe_bsdf.bsdf import Flags, Lobe, finished_sample, luminance
 from adobe_bsdf.composition import Sum
-from adobe_bsdf.lobes.dielectric import Dielectric, _eta, _mirror_z, interface_energy_scale
+from adobe_bsdf.lobes.dielectric import (
+    Dielectric,
+    _eta,
+    _film,
+    _mirror_z,
+    interface_energy_scale,
+)
 from adobe_bsdf.lobes.dispersive import Dispersive
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
@@ -182,9 +188,13 @@ class SeparableDielectricMS(Separable):
     def __init__(self, eta, alpha_x, alpha_y=None):
         self._init(_eta(eta), GGX(alpha_x, alpha_y))
 
-    def _init(self, eta, distribution: GGX):
+    def _init(self, eta, distribution: GGX, film=None):
+        """``film``: None, or ``(energy, channel)``: a ``film_energy.FilmEnergy`` of the
+        interface and the colour channel whose Delta this term restores as well (it
+        restores 1 - E - Delta; no glossy share then)."""
         self.eta = eta
         self.distribution = distribution
+        self._film = film
         alpha = table_alpha(self.distribution)
         ratio = checked_ratio(self.eta)
         self._light_above = sides(self.eta)[0]
@@ -197,6 +207,9 @@ class SeparableDielectricMS(Separable):
             slice_L, slice_D = slice_average(self.eta, self.distribution)
             avg_L, avg_D = pick(aniso, slice_L, avg_L), pick(aniso, slice_D, avg_D)
         E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
+        if film is not None:
+            energy, c = film
+            E_avg_L, E_avg_D = E_avg_L + energy.average_light[c], E_avg_D + energy.average_dense[c]
         # the split is a free choice in [0, 1] (clipped against interpolation overshoot of a
         # near-zero E_R near eta = 1; conservation and reciprocity hold for any value)
         t_L = np.clip(pick(E_avg_L > 0.0, avg_L[..., 1] / pick(E_avg_L > 0, E_avg_L, 1.0),
@@ -210,7 +223,8 @@ class SeparableDielectricMS(Separable):
         t_D = pick(capped, 1.0, t_D)
         self.transmitted_share = (t_L, t_D)
         active = ~self.distribution.smooth & (self.eta != 1.0)
-        g = pick(active & ~is_anisotropic(self.distribution), GLOSSY_SHARE, 0.0)
+        g = pick(active & ~is_anisotropic(self.distribution) & (film is None), GLOSSY_SHARE,
+                 0.0)
         #: g r_L: the share of the light side's multiply scattered energy reflected glossily
         self.glossy_weight = g * (1.0 - t_L)
         #: what this term keeps of the light side's energy X_L, 1 - g r_L
@@ -237,10 +251,26 @@ class SeparableDielectricMS(Separable):
     def _on_light(self, w):
         return (w[..., 2] > 0.0) == self._light_above
 
+    def _E(self, w, with_error=False):
+        """(E_s(mu), error) on the side of ``w``, plus the film's Delta where it has one
+        (the three channels' terms share one lookup per call: ``_memo``)."""
+        if self._film is None or with_error:
+            E, error = dielectric_energy(self.eta, self.distribution, w, with_error,
+                                         self.exact)
+            if self._film is not None:
+                energy, c = self._film
+                E = E + energy(np.abs(w[..., 2]), self._on_light(w))[..., c]
+            return E, error
+        energy, c = self._film
+
+        def filmed(w):
+            E = dielectric_energy(self.eta, self.distribution, w)[0]
+            return E[..., None] + energy(np.abs(w[..., 2]), self._on_light(w))
+        return _memo.once(energy, "E", w, filmed)[..., c], None
+
     def _X(self, w):
         """1 - E_s(mu) on the side of ``w`` (clamped at 0 against interpolation overshoot)."""
-        return np.maximum(1.0 - dielectric_energy(self.eta, self.distribution, w,
-                                                  exact=self.exact)[0], 0.0)
+        return np.maximum(1.0 - self._E(w)[0], 0.0)
 
     def _coefficient(self, wo, wi):
         o_light, i_light = self._on_light(wo), self._on_light(wi)
@@ -268,7 +298,7 @@ class SeparableDielectricMS(Separable):
     def _albedo_table(self, wo, with_error=True):
         """(1 - E_s(mu_o)) times ``_light_share``: what this term adds, exactly, for the
         tabulated E."""
-        E, error = dielectric_energy(self.eta, self.distribution, wo, with_error, self.exact)
+        E, error = self._E(wo, with_error)
         active = ~self.distribution.smooth & (self.eta != 1.0) & (wo[..., 2] != 0.0)
         share = self._light_share(wo)
         return (grey(pick(active, np.maximum(1.0 - E, 0.0), 0.0) * share),
@@ -423,15 +453,27 @@ class DielectricMS(Sum):
     eta : array_like, max(eta, 1/eta) in [1, 3]
         n_below / n_above.
     alpha_x, alpha_y : array_like in [0, 2]
+    film : fresnel.Fresnel, optional
+        A thin film on the interface (``thin_film.ThinFilm(d, n_film, eta)``), seen from the
+        less dense side: it colours reflection and refraction, and a white glass keeps its
+        energy (scalar parameters).
     """
 
-    def __init__(self, eta, alpha_x, alpha_y=None):
-        self._init(_eta(eta), GGX(alpha_x, alpha_y))
+    def __init__(self, eta, alpha_x, alpha_y=None, film=None):
+        self._init(_eta(eta), GGX(alpha_x, alpha_y), _film(film))
 
-    def _init(self, eta, distribution: GGX):
-        """Both terms over the one ``distribution``."""
-        super()._init((Dielectric._new(eta, distribution),
-                       DielectricMultipleScattering._new(eta, distribution)))
+    def _init(self, eta, distribution: GGX, film=None):
+        """Both terms over the one ``distribution``; with a ``film``, the interface's
+        reflectance is the film's (``Dielectric(film=)``) and, for each colour channel c, a
+        separable term restores 1 - E - Delta_c (``film_energy.FilmEnergy``)."""
+        single = Dielectric._new(eta, distribution, film)
+        if film is None or np.all(distribution.smooth) or np.all(eta == 1.0):
+            super()._init((single, DielectricMultipleScattering._new(eta, distribution)))
+            return
+        energy = single.film_energy()  # (a ValueError where the parameters are arrays)
+        channels = tuple(SeparableDielectricMS._new(eta, distribution, (energy, c))
+                         for c in range(3))
+        super()._init((single, *channels), [None, *np.eye(3)])
 
 
 class DispersiveMS(Sum):
@@ -445,15 +487,29 @@ class DispersiveMS(Sum):
     ----------
     eta, dispersion : as ``Dispersive`` (n_d below / n above, the Dispersion 20 / V_d).
     alpha_x, alpha_y : array_like in [0, 2]
+    film : callable, optional
+        ``film(eta_c)``: the thin film over a channel's index, e.g.
+        ``lambda eta: thin_film.ThinFilm(d, n_film, eta)`` (``DielectricMS(film=)``, per
+        channel).
     """
 
-    def __init__(self, eta, dispersion, alpha_x, alpha_y=None):
+    def __init__(self, eta, dispersion, alpha_x, alpha_y=None, film=None):
+        if film is not None and not callable(film):
+            raise ValueError(f"film = {film!r}: allowed None or a function of a channel's "
+                             "index returning its film, e.g. lambda eta: "
+                             "thin_film.ThinFilm(d, n_film, eta)")
         self._init(_eta(eta), _params.real("dispersion", dispersion, 0.0, np.inf),
-                   GGX(alpha_x, alpha_y))
+                   GGX(alpha_x, alpha_y), film)
 
-    def _init(self, eta, dispersion, distribution: GGX):
-        glass = Dispersive._new(eta, dispersion, distribution)
+    def _init(self, eta, dispersion, distribution: GGX, film=None):
+        glass = Dispersive._new(eta, dispersion, distribution, film=film)
         #: the multiple-scattering term of each channel's index
-        self.channels = tuple(DielectricMultipleScattering._new(glass.eta[..., c], distribution)
-                              for c in range(3))
+        if film is None or np.all(distribution.smooth):
+            self.channels = tuple(DielectricMultipleScattering._new(glass.eta[..., c],
+                                                                    distribution)
+                                  for c in range(3))
+        else:  # each restores 1 - E - Delta_c of its channel's film (``DielectricMS``)
+            self.channels = tuple(SeparableDielectricMS._new(
+                glass.eta[..., c], distribution, (glass.channels[c].film_energy(), c))
+                for c in range(3))
         super()._init((glass, *self.channels), [None, *np.eye(3)])

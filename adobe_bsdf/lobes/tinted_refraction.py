@@ -63,6 +63,8 @@ class TintedRefraction(Wrapper):
         self.reflection_below = reflection_below
         self.flags = lobe.flags
         single = lobe.components[0]
+        #: the interface's thin film (``Dielectric(film=)``), or None
+        self._single = single if getattr(single, "film", None) is not None else None
         if isinstance(lobe, DispersiveMS):  # channel c: its index and its own term
             etas, self._multiple = [single.eta[..., c] for c in range(3)], lobe.channels
         else:
@@ -153,13 +155,29 @@ class TintedRefraction(Wrapper):
         """A smooth interface reflects F(wo) (``DielectricReflection``'s delta, total
         internal reflection included) and refracts the rest of its delta energy; a
         pass-through only refracts."""
-        return self._split(self.lobe._delta_albedo(wo), self._seen("_delta_albedo", wo), wo)
+        return self._split(self.lobe._delta_albedo(wo),
+                           self._filmed(self._seen("_delta_albedo", wo), wo), wo)
+
+    def _filmed(self, reflected, wo):
+        """``reflected`` with the film's reflectance in place of F where the interface is
+        smooth (no change without a film)."""
+        if self._single is None:
+            return reflected
+        smooth = (np.broadcast_to(self._single.distribution.smooth, wo.shape[:-1])
+                  & (wo[..., 2] != 0.0))
+        return np.where(smooth[..., None], self._single.film_reflectance(wo), reflected)
 
     def _reflected(self, wo):
-        """E_R(wo): the interface's reflection (its table, or its exact Fresnel where smooth)
-        plus the Kulla–Conty term's reflected share."""
-        single = self._seen("_top_albedo", wo)
+        """E_R(wo): the interface's reflection (its table, or its exact Fresnel where smooth;
+        with a film, plus the film's Delta_R, ``film_energy.FilmEnergy``) plus the
+        Kulla–Conty term's reflected share."""
+        single = self._filmed(self._seen("_top_albedo", wo), wo)
         grazing = wo[..., 2] == 0.0
+        energy = None if self._single is None else self._single.film_energy()
+        if energy is not None:  # the film's change of the reflected energy, Delta_R
+            light = (wo[..., 2] > 0.0) == (self._single.eta >= 1.0)
+            single = single + np.where(grazing[..., None], 0.0,
+                                       energy(np.abs(wo[..., 2]), light, reflected=True))
         multiple = [weighted(ms._albedo_table(wo, False)[0],
                              pick(grazing, 0.0, ms._reflect_probability(wo)))
                     for ms in self._multiple]

@@ -5,7 +5,7 @@ The stack is a non-absorbing outside medium (index n1), a homogeneous non-absorb
 n3 = n + i k (a dielectric for k = 0, a metal for k > 0, a perfect reflector for
 |n3| = inf). Every reflectance is the unpolarised mean of the s and p polarisations. The module is a
 reference for ``adobe_bsdf.thin_film``: it shares no code with it (nor with
-``adobe_bsdf.spectral``), so that the two can be compared.
+``adobe_bsdf.spectral``'s colour computation), so that the two can be compared.
 
 Public API
 ----------
@@ -61,9 +61,10 @@ Fresnel factor.
 from __future__ import annotations
 
 import functools
-import warnings
 
 import numpy as np
+
+from adobe_bsdf.spectral import colour_science
 
 __all__ = ["WAVELENGTHS_NM", "film_reflectance_spectrum", "film_transmittance_spectrum",
            "film_rgb", "film_transmittance_rgb", "film_rgb_per_channel", "spectrum_to_rgb"]
@@ -174,9 +175,7 @@ def film_transmittance_spectrum(wavelength_nm, cos_theta, thickness_nm, film_ior
 def _colour_matrix() -> np.ndarray:
     """``(L, 3)`` matrix W with RGB = spectrum @ W on ``WAVELENGTHS_NM``:
     W = (S xyz / sum S ybar) M^T with M the sRGB XYZ -> RGB matrix (module docstring)."""
-    with warnings.catch_warnings():  # colour-science's notice about its optional plotting
-        warnings.filterwarnings("ignore", message='"Matplotlib" related API features')
-        import colour
+    colour = colour_science()
 
     lam = WAVELENGTHS_NM
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]

@@ -46,7 +46,7 @@ from adobe_bsdf.materials.openpbr import draft, mapping
 from adobe_bsdf.materials.openpbr.parameters import DEV_1_2, GATES, PARAMETERS, PLANNED, SPECS
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.tables import ETA_MAX
-from adobe_bsdf.thin_film import ThinFilm
+from adobe_bsdf.thin_film import MODELS, ThinFilm
 
 __all__ = ["OpenPBRSurface", "ETA_RANGE", "HAZE_MODELS", "SPECS", "versions"]
 
@@ -126,6 +126,11 @@ class OpenPBRSurface(Material):
         specular_weight above 1.
     **params
         The inputs, named as in ``docs/openpbr.md``.
+    thin_film_model : one of ``thin_film.MODELS``
+        "spectral" (the default): the film's colour integrated over the spectrum, the
+        reference; "three_wavelengths": each channel's reflectance at one wavelength
+        (``thin_film.CHANNEL_WAVELENGTHS_NM``), as RGB renderers that evaluate the film so
+        compute it (``docs/thin_film_wavelengths.md``).
     darkening_variant, haze_model : deprecated
         Aliases of ``spec`` for one release (a ``DeprecationWarning``): darkening_variant
         "v1.1.1" is spec "1.1.1", "pr253" is "dev_1.2"; haze_model "dev_1.2" is spec
@@ -137,8 +142,10 @@ class OpenPBRSurface(Material):
     parameters = PARAMETERS
 
     def __init__(self, *, spec: str | None = None, darkening_variant: str | None = None,
-                 haze_model: str | None = None, **params):
+                 haze_model: str | None = None, thin_film_model: str = "spectral", **params):
         self.spec, barla = _version(spec, darkening_variant, haze_model, params)
+        #: how the thin film's colour is evaluated (``thin_film.MODELS``)
+        self.thin_film_model = _params.choice("thin_film_model", thin_film_model, MODELS)
         self.haze_model = "barla2018" if barla else "dev_1.2"
         p = self.params = PARAMETERS.validate(params)
         if self.spec == "1.1.1":  # dev_1.2's inputs are not the release's
@@ -307,9 +314,9 @@ class OpenPBRSurface(Material):
         the medium above it, n_above =
         lerp(1, coat_ior, coat_weight) (the blend the base's own index takes under a partial
         coat, ``mapping.effective_ior``). Not with the hazy gloss of [Barla2018] (its
-        Fresnel is its own), nor on the bulk translucent base (``DielectricMS`` takes an
-        index, not a Fresnel model): that warns. On the thin-walled one it is on the sheet's
-        faces (``ThinDielectric(film=)``)."""
+        Fresnel is its own). On the bulk translucent base it is the interface's
+        (``DielectricMS(film=)``, ``DispersiveMS(film=)`` per channel index), on the
+        thin-walled one on the sheet's faces (``ThinDielectric(film=)``)."""
         p = self.params
         w = p["thin_film_weight"]
         if not _any(w * p["thin_film_thickness"]):  # no film, or one of thickness 0
@@ -317,12 +324,6 @@ class OpenPBRSurface(Material):
         if self._hazy and self.haze_model == "barla2018":
             raise ValueError("thin_film_weight > 0 with haze_model = 'barla2018': allowed "
                              "thin_film_weight = 0 (the hazy gloss has a Fresnel of its own)")
-        if not self.thin_walled and _any(w * p["transmission_weight"]
-                                         * (1.0 - p["base_metalness"])):
-            warnings.warn("OpenPBRSurface: the thin film is not applied to the bulk "
-                          "translucent base (transmission_weight > 0, not thin-walled): its "
-                          "refraction has no Fresnel model to carry it (docs/openpbr.md)",
-                          stacklevel=3)
         n_above = 1.0 if coat_weight is None else 1.0 + coat_weight * (p["coat_ior"] - 1.0)
         return w, 1000.0 * p["thin_film_thickness"], p["thin_film_ior"] / n_above
 
@@ -380,7 +381,8 @@ class OpenPBRSurface(Material):
                                          mapping.f82_average(f0, tint)), r)
             if self._film is not None:
                 w, d, n_film = self._film
-                film = ThinFilm.over_f82_tint(d, n_film, f0, tint)
+                film = ThinFilm.over_f82_tint(d, n_film, f0, tint,
+                                              model=self.thin_film_model)
                 lobe = _mix(lobe, self._hazed(conductor(film, _hemispherical_average(film)),
                                               r), w)
         if not boosted and np.any(xi != 1.0):
@@ -421,7 +423,7 @@ class OpenPBRSurface(Material):
                                                              _fresnel(eta)), r)
                 if self._film is not None:
                     w, d, n_film = self._film
-                    film = ThinFilm(d, n_film, eta)
+                    film = ThinFilm(d, n_film, eta, model=self.thin_film_model)
                     reflection = _mix(reflection, self._hazed(
                         lambda alphas: ReferencedReflection._new(
                             DielectricReflection._new(GGX._new(*alphas), _fresnel(eta)),
@@ -446,10 +448,17 @@ class OpenPBRSurface(Material):
                 glass = self._hazed(self._sheet(eta, None), r)
                 if self._film is not None:
                     w, d, n_film = self._film
-                    glass = _mix(glass, self._hazed(self._sheet(eta, ThinFilm(d, n_film, eta)),
-                                                    r), w)
+                    film = ThinFilm(d, n_film, eta, model=self.thin_film_model)
+                    glass = _mix(glass, self._hazed(self._sheet(eta, film), r), w)
             else:
                 glass = self._hazed(lambda alphas: self._glass(eta, GGX._new(*alphas)), r)
+                if self._film is not None:
+                    w, d, n_film = self._film
+
+                    def film(eta_c):
+                        return ThinFilm(d, n_film, eta_c, model=self.thin_film_model)
+                    glass = _mix(glass, self._hazed(
+                        lambda alphas: self._glass(eta, GGX._new(*alphas), film), r), w)
             built["transmission"] = _turned(self._retro(glass), phi)
         return _mix(opaque, built.get("transmission"), T)
 
@@ -460,7 +469,9 @@ class OpenPBRSurface(Material):
         color = self.params["transmission_color"]
         return lambda alphas: ThinDielectric(eta, *alphas, transmittance=color, film=film)
 
-    def _glass(self, eta, microfacets):
+    def _glass(self, eta, microfacets, film=None):
+        # film: None, or film(eta_c) -> the thin film over an index (the channels' with
+        # dispersion)
         """The bulk translucent base: ``DielectricMS`` at ``eta``, its refraction tinted by
         transmission_color where transmission_depth is 0 (``lobes.TintedRefraction``: "a
         constant tint on the refraction", [OpenPBR2026, §Translucent base]; at depth > 0 the
@@ -478,13 +489,13 @@ class OpenPBRSurface(Material):
         color = p["specular_color"]
 
         if not _any(p["transmission_dispersion_scale"]):
-            lobe = DielectricMS._new(eta, microfacets)
+            lobe = DielectricMS._new(eta, microfacets, None if film is None else film(eta))
         else:
             D = (20.0 * p["transmission_dispersion_scale"]
                  / p["transmission_dispersion_abbe_number"])
             names = "transmission_dispersion_abbe_number / transmission_dispersion_scale"
             try:
-                lobe = DispersiveMS._new(eta, D, microfacets)
+                lobe = DispersiveMS._new(eta, D, microfacets, film)
             except ValueError as error:  # a channel's index at 1 or below, or out of tables
                 raise ValueError(f"{names} = V_d {np.min(20.0 / D)!r}: {error}") from None
             _in_tables(f"{names} (the channels' Cauchy indices)", lobe.eta)

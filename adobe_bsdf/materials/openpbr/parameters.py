@@ -208,9 +208,9 @@ STATUS = {
                                     "Y = 1), uniform, through the coat and fuzz "
                                     "(`Layer.exit_weight`)"),
     "emission_color": (_DONE, "multiplier of the radiance (may exceed 1)"),
-    "thin_film_weight": (_CHOICE, "`Mix` of the base without and with the film, on the metal "
-                                  "and the glossy-diffuse reflection (not on the translucent "
-                                  "base: a warning)"),
+    "thin_film_weight": (_CHOICE, "`Mix` of the base without and with the film, on the metal, "
+                                  "the glossy-diffuse reflection and the translucent base, bulk "
+                                  "or thin-walled (not with dispersion: a warning)"),
     "thin_film_thickness": (_DONE, "d = 1000 × thickness nm of `thin_film.ThinFilm` (the exact "
                                    "Airy sum, integrated to linear Rec. 709)"),
     "thin_film_ior": (_CHOICE, "relative to lerp(1, coat_ior, coat_weight) above it; the metal "
