@@ -156,15 +156,20 @@ def _per_wo_rule(reference, lobe, wo):
                           reference, wo), 0.0)
 
 
-def test_anisotropic_and_textured_film_lobes_keep_the_per_wo_rule():
-    """Where the difference is not a function of mu_o alone (anisotropic roughness) or the
-    parameters are a texture, there is no table: the albedo is the sampled rule at every wo,
-    and a texture is the lobe of each texel (built without tables) to rounding."""
+def test_anisotropic_film_lobes_have_their_azimuthal_table_and_textures_the_per_wo_rule():
+    """Anisotropic roughness: the difference, a function of (mu_o, phi_o), has its own table
+    (``AzimuthalTable``; its accuracy: tests/test_film_anisotropic.py), and ``tabulated=False``
+    keeps the sampled rule at every wo. A texture has no table: the albedo is the sampled
+    rule at every wo, the lobe of each texel (built without tables) to rounding."""
+    from adobe_bsdf.lobes.reflection import AzimuthalTable
+
     wo = ab.frame.normalize(np.array([[0.3, 0.5, 0.8], [0.9, -0.2, 0.1], [0.0, 0.6, 0.5]]))
-    reference, anisotropic = _film_lobe(450.0, 1.6, 1.4, 0.3, 0.05)
-    assert anisotropic.table() is None
-    np.testing.assert_allclose(anisotropic.albedo(wo, method="table"),
-                               _per_wo_rule(reference, anisotropic, wo), rtol=0, atol=1e-14)
+    _, anisotropic = _film_lobe(450.0, 1.6, 1.4, 0.3, 0.05)
+    assert isinstance(anisotropic.table(), AzimuthalTable)
+    reference, direct = _film_lobe(450.0, 1.6, 1.4, 0.3, 0.05, tabulated=False)
+    assert direct.table() is None
+    np.testing.assert_allclose(direct.albedo(wo, method="table"),
+                               _per_wo_rule(reference, direct, wo), rtol=0, atol=1e-14)
     thickness = np.array([0.0, 300.0, 1200.0])
     reference, textured = _film_lobe(thickness, 1.6, 1.4, 0.2)
     assert textured.table() is None and textured.fresnel.table() is None
