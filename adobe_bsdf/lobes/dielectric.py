@@ -12,11 +12,14 @@ from adobe_bsdf.bsdf import Flags, Lobe, finished_sample
 from adobe_bsdf.fresnel import Fresnel, _dielectric_k, _k_of_indices
 from adobe_bsdf.lobes.energy_lookup import (
     MIN_TRANSMISSION_WIDTH,
+    checked_ratio,
     dielectric_energy,
     exact_anisotropic,
     grey,
     passes_through,
+    table_alpha,
 )
+from adobe_bsdf.lobes.film_energy import FilmEnergy
 from adobe_bsdf.microfacet import distribution, saturated
 
 __all__ = ["Dielectric", "interface_energy_scale", "passes_through", "MIN_TRANSMISSION_WIDTH"]
@@ -333,9 +336,6 @@ class Dielectric(Lobe):
         if self.film is None or np.all(self.distribution.smooth) or np.all(self.passes):
             return None
         if self._film_energy is None:
-            from adobe_bsdf.lobes.energy_lookup import checked_ratio, table_alpha
-            from adobe_bsdf.lobes.film_energy import FilmEnergy
-
             if not (np.ndim(self.eta) == 0 and self.film.param_shape == ()
                     and self.distribution.param_shape == ()):
                 raise ValueError(

@@ -55,6 +55,7 @@ from adobe_bsdf import _params, quadrature
 from adobe_bsdf._channels import pick
 from adobe_bsdf.composition import Facing, Flipped, Sum
 from adobe_bsdf.fresnel import Fresnel, _dielectric_k, _k_of_indices
+from adobe_bsdf.lobes.dielectric import _film
 from adobe_bsdf.lobes.energy_lookup import conductor_energy, grey
 from adobe_bsdf.lobes.kulla_conty import ConductorMultipleScattering
 from adobe_bsdf.lobes.reflection import Conductor
@@ -74,14 +75,6 @@ def _eta(eta) -> np.ndarray:
 
 def _transmittance(transmittance) -> np.ndarray:
     return _params.color("transmittance", transmittance, 0.0, 1.0)
-
-
-def _film(film):
-    """``film``, checked to be None or a ``fresnel.Fresnel`` model of known parameter shape."""
-    if film is None or (isinstance(film, Fresnel) and film.param_shape is not None):
-        return film
-    raise ValueError(f"film = {film!r}: allowed None or a fresnel.Fresnel model, e.g. "
-                     "thin_film.ThinFilm(thickness_nm, film_ior, eta)")
 
 
 def sheet_coefficients(cos2, eta, transmittance, film=None) -> tuple[np.ndarray, np.ndarray]:
