@@ -8,7 +8,10 @@ The sweep (``configurations``): the default ``OpenPBRSurface``; for every input 
 feature on (``VALUES``; an input that acts only with another, coat_roughness without
 coat_weight say, is swept alone all the same); the default under ``spec="dev_1.2"`` and each
 of that branch's inputs (``DEV_1_2``) against it; and a few pairs that act together
-(``PAIRS``). Each row's ratios are to the default material of its own ``spec``.
+(``PAIRS``). Each row's ratios are to the default material of its own ``spec``. Then the
+thin film's own cost (``film_rows``): over each base of ``FILM_BASES`` (dielectric, metal,
+glass bulk, thin-walled and dispersive, rough and anisotropic), the base with the film
+against the same base without it.
 
 Timing: ``eval`` and ``sample`` of each material on the same N random pairs
 (``throughput.directions``, seed 0: ``wo`` above the surface, ``wi`` anywhere; N = 10 000,
@@ -121,7 +124,24 @@ PAIRS = [
     {"coat_weight": 1.0, "coat_roughness": 0.3, "coat_roughness_anisotropy": 0.8},
     {"transmission_weight": 1.0, "transmission_dispersion_scale": 1.0},
     {"transmission_weight": 1.0, "geometry_thin_walled": True},
+    {"transmission_weight": 1.0, **_FILM},
+    {"transmission_weight": 1.0, "geometry_thin_walled": True, **_FILM},
+    {"transmission_weight": 1.0, "transmission_dispersion_scale": 1.0, **_FILM},
 ]
+#: the bases of the thin film's own cost (``film_rows``): each timed with ``_FILM`` against
+#: itself without it
+FILM_BASES = {
+    "dielectric (the default)": {},
+    "rough dielectric": {"specular_roughness": 0.6},
+    "anisotropic dielectric": {"specular_roughness_anisotropy": 0.8},
+    "coated dielectric": {"coat_weight": 1.0},
+    "metal": {"base_metalness": 1.0},
+    "anisotropic metal": {"base_metalness": 1.0, "specular_roughness_anisotropy": 0.8},
+    "glass": {"transmission_weight": 1.0},
+    "rough glass": {"transmission_weight": 1.0, "specular_roughness": 0.6},
+    "thin-walled glass": {"transmission_weight": 1.0, "geometry_thin_walled": True},
+    "dispersive glass": {"transmission_weight": 1.0, "transmission_dispersion_scale": 1.0},
+}
 
 
 def _text(value) -> str:
@@ -208,7 +228,33 @@ def measure(pairs: int, runs: int, log=None) -> dict:
             if log:
                 log(f"{inputs} ({spec}): eval ×{row.get('eval_ratio', float('nan')):.2f}, "
                     f"sample ×{row.get('sample_ratio', float('nan')):.2f}")
-    return {"pairs": pairs, "runs": runs, "rows": rows}
+    return {"pairs": pairs, "runs": runs, "rows": rows,
+            "film_rows": film_rows(wo, wi, u, runs, log)}
+
+
+def film_rows(wo, wi, u, runs, log=None) -> list:
+    """The thin film's cost over each of ``FILM_BASES``: the base with ``_FILM`` timed against
+    the base itself, as ``measure`` times a row against the default."""
+    rows = []
+    with options(threads=1):
+        for name, params in FILM_BASES.items():
+            row = {"base": name, "params": params, "notes": []}
+            try:
+                base, _, _ = _build("1.1.1", params)
+                for call in CALLS:
+                    tp._call(base, call, wo[:WARM], wi[:WARM], u[:WARM])
+                material, row["build"], said = _build("1.1.1", {**params, **_FILM})
+                row["notes"] += [f"warns: {s}" for s in said]
+                row.update(_timed(material, base, wo, wi, u, runs))
+                if row["n"] < len(wo):
+                    row["notes"].append(f"timed on {row['n']} pairs, scaled to {len(wo)}")
+            except Exception as exc:  # reported in the page
+                row["error"] = f"{type(exc).__name__}: {exc}"
+            rows.append(row)
+            if log:
+                log(f"film over {name}: eval ×{row.get('eval_ratio', float('nan')):.2f}, "
+                    f"sample ×{row.get('sample_ratio', float('nan')):.2f}")
+    return rows
 
 
 def _worst(rows, key):
@@ -254,10 +300,36 @@ def markdown(result: dict, seconds: float) -> str:
                    f"{r['eval_ratio']:.2f} | {r['sample']:.3g} | {r['sample_ratio']:.2f} | "
                    f"{r['build']:.3g} | {r['first']:.3g} | {', '.join(r['lobes'])} | "
                    f"{'; '.join(r['notes']) or '—'} |")
+    out += _film_markdown(result.get("film_rows", []))
+    film_failed = [r for r in result.get("film_rows", []) if "eval_ratio" not in r]
     out += ["", "## Failed", ""]
-    out += [f"- `{r['inputs']}` = {r['values']} (spec {r['spec']}): "
-            f"{r.get('error', 'its default failed')}" for r in failed] or ["None."]
+    out += ([f"- `{r['inputs']}` = {r['values']} (spec {r['spec']}): "
+             f"{r.get('error', 'its default failed')}" for r in failed]
+            + [f"- thin film over the {r['base']}: {r['error']}" for r in film_failed]
+            ) or ["None."]
     return "\n".join(out) + "\n"
+
+
+def _film_markdown(rows) -> list:
+    """The section of ``film_rows``."""
+    timed = [r for r in rows if "eval_ratio" in r]
+    if not timed:
+        return []
+    film = ", ".join(f"{k} = {_text(v)}" for k, v in _FILM.items())
+    out = ["", "## The thin film's cost over each base", "",
+           f"Each base (spec 1.1.1) with the film ({film}) against the same base without it, "
+           "timed in alternating rounds on the pairs above, as the rows above against the "
+           f"default. Worst `eval` ratio: **{max(r['eval_ratio'] for r in timed):.2f}×**; "
+           f"worst `sample` ratio: **{max(r['sample_ratio'] for r in timed):.2f}×**.", "",
+           "| base | inputs | eval with film (s) | eval ratio | sample with film (s) | "
+           "sample ratio | build (s) | first call (s) | notes |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for r in timed:
+        inputs = ", ".join(f"`{k}` = {_text(v)}" for k, v in r["params"].items()) or "—"
+        out.append(f"| {r['base']} | {inputs} | {r['eval']:.3g} | {r['eval_ratio']:.2f} | "
+                   f"{r['sample']:.3g} | {r['sample_ratio']:.2f} | {r['build']:.3g} | "
+                   f"{r['first']:.3g} | {'; '.join(r['notes']) or '—'} |")
+    return out
 
 
 def run(out: Path | None = None, smoke: bool = False, pairs: int | None = None,

@@ -63,3 +63,15 @@ def test_ratios_are_positive_and_sorted(page):
         assert all(math.isfinite(v) and v > 0 for v in values), (key, values)
     eval_ratios = [v[0] for v in rows.values()]  # in the page's order
     assert eval_ratios == sorted(eval_ratios, reverse=True)
+
+
+def test_film_section_has_a_row_per_base(page):
+    section = page.split("## The thin film's cost over each base", 1)[1].split("## Failed")[0]
+    rows = {}
+    for line in section.splitlines():
+        if line.startswith("| ") and not line.startswith(("| base ", "|---")):
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            rows[cells[0]] = tuple(float(cells[k]) for k in (2, 3, 4, 5, 6))
+    assert set(rows) == set(parameter_cost.FILM_BASES)
+    for base, values in rows.items():
+        assert all(math.isfinite(v) and v > 0 for v in values), (base, values)

@@ -334,7 +334,9 @@ class ReferencedReflection(MicrofacetReflection):
     rule in place of the 32 x 32 one: E_F - E_reference integrated over the microfacet
     normals by the piecewise Gauss-Legendre rule of the tables (``tables.energy``, at
     ``DIFFERENCE_ORDER`` = 16; ``_fresnel_energy``), its pieces split also where c = wo.m
-    crosses a kink of either Fresnel model (a critical angle of the film or the substrate).
+    crosses a kink of either Fresnel model (a critical angle of the film or the substrate,
+    or a cosine where a clipped film's colour enters or leaves 0 in some channel,
+    ``_clip_cosines``: without these the table missed by up to 2.5e-4).
     The sampled rule is not smooth in mu_o (its nodes cross those kinks and the horizon as
     mu_o moves) and misses the difference by up to 5e-3 (rough lobes at grazing views, and
     across total internal reflection); the node rule converges geometrically (order 12:
@@ -436,7 +438,8 @@ class ReferencedReflection(MicrofacetReflection):
         d = self.distribution
         if d.alpha_x != d.alpha_y:
             return AzimuthalTable(float(d.alpha_x), float(d.alpha_y), self._signed.fresnel)
-        kinks = _kinks(self._signed.fresnel)
+        model = self._signed.fresnel
+        kinks = np.union1d(_kinks(model), _clip_cosines(model))
         alpha = np.asarray(self.distribution.alpha_x, dtype=np.float64)
 
         def difference(mu):
