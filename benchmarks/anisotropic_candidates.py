@@ -1,0 +1,269 @@
+"""Representations of an anisotropic rough dielectric's single-scattering energy, measured
+before one is chosen; writes ``docs/anisotropic_candidates_measured.md``.
+
+    python -m benchmarks.anisotropic_candidates [--smoke] [--out DIR]
+
+The quantity: E(wo) = E_R + E_T of an anisotropic GGX dielectric interface (exact Fresnel,
+height-correlated Smith), the energy a Kulla–Conty term restores to 1, over five coordinates
+per side (mu, phi, alpha_x, alpha_y, eta). The reference is the stretched node quadrature
+``tables.anisotropic_energy.ggx_anisotropic_dielectric_energy`` at ``REFERENCE_ORDER`` (at
+``CHECK`` points also at ``CHECK_ORDER``: the reference's own error).
+
+Held-out points (seed 20261206): mu uniform in [0.01, 1], phi in [0, pi / 2], alpha_x in
+[0.02, 1], alpha_y = ratio alpha_x with ratio in [0, 1], eta log-uniform in [1.01, 3], seen
+from the light side (eta) and from the dense side (1 / eta).
+
+Candidates:
+
+* **isotropic proxies**: the isotropic node quadrature ``tables.energy.ggx_energy`` (what the
+  isotropic tables hold) at one roughness: the geometric mean sqrt(alpha_x alpha_y) (the
+  default table mode today), wo's projected roughness, the RMS of the two;
+* **isotropic proxy + the conductor's anisotropy**: the same, corrected by the F = 1
+  conductor's anisotropic energy against its isotropic energy at that roughness, added or
+  as a ratio of the losses;
+* **a per-lobe rule**: the order x order Gauss product rule over the two uniforms of the
+  visible-normal sampler [Heitz2018], both branches (the cost of a per-lobe slice at first
+  use, in ms per view);
+* **a grid of slices**: ``tables.dielectric_slices`` slices (the exact mode's tables, in
+  coordinates aligned with the critical angle and the kinks of a nearly one-dimensional
+  surface) at neighbouring (alpha, ratio, eta), interpolated across them (Catmull-Rom, the
+  target midway) at the target slice's nodes and cell midpoints: the error of a five-
+  dimensional table of slices at that spacing, per axis (log alpha, log ratio,
+  log(eta - 1)).
+"""
+
+from __future__ import annotations
+
+import datetime
+import time
+from pathlib import Path
+
+import numpy as np
+
+from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.tables.anisotropic_energy import (
+    ggx_anisotropic_dielectric_energy,
+    ggx_anisotropic_energy,
+)
+from adobe_bsdf.tables.dielectric_slices import dielectric_slice
+from adobe_bsdf.tables.energy import ggx_energy
+from benchmarks import machine, report_main, write_page
+
+NAME = "anisotropic_candidates_measured.md"
+SEED = 20261206
+POINTS, SMOKE_POINTS = 300, 8
+REFERENCE_ORDER, CHECK_ORDER, CHECK = 12, 20, 24
+ISO_ORDER = 16
+RULE_ORDERS = (32, 64, 128)
+#: (axis, (alpha, ratio, eta), log step) of the slice-grid measurements
+SLICE_CASES = [("alpha", (0.3, 0.3, 1.5), 0.3), ("alpha", (0.3, 0.3, 1.5), 0.6),
+               ("alpha", (0.05, 0.2, 1.5), 0.3), ("ratio", (0.3, 0.3, 1.5), 0.3),
+               ("ratio", (0.3, 0.3, 1.5), 0.6), ("ratio", (0.3, 0.05, 1.5), 0.3),
+               ("eta", (0.3, 0.3, 1.2), 0.3), ("eta", (0.3, 0.3, 2.2), 0.3),
+               ("eta", (0.3, 0.3, 1.5), 0.3)]
+SMOKE_SLICE_CASES: list = []
+
+
+def points(n: int, seed: int = SEED) -> dict:
+    rng = np.random.default_rng(seed)
+    alpha_x = rng.uniform(0.02, 1.0, n)
+    return {"mu": rng.uniform(0.01, 1.0, n), "phi": rng.uniform(0.0, np.pi / 2, n),
+            "alpha_x": alpha_x, "alpha_y": alpha_x * rng.uniform(0.0, 1.0, n),
+            "eta": np.exp(rng.uniform(np.log(1.01), np.log(3.0), n))}
+
+
+def _total(energy) -> np.ndarray:
+    return energy.reflection + energy.transmission
+
+
+def reference(p: dict, eta, order: int = REFERENCE_ORDER) -> np.ndarray:
+    return _total(ggx_anisotropic_dielectric_energy(p["mu"], p["phi"], p["alpha_x"],
+                                                    p["alpha_y"], eta, order, estimate=False))
+
+
+def _proxies(p: dict) -> dict:
+    ax, ay, phi = p["alpha_x"], p["alpha_y"], p["phi"]
+    return {"geometric mean sqrt(alpha_x alpha_y) (the default today)": np.sqrt(ax * ay),
+            "roughness projected on wo's azimuth": np.sqrt((ax * np.cos(phi)) ** 2
+                                                 + (ay * np.sin(phi)) ** 2),
+            "RMS sqrt((alpha_x^2 + alpha_y^2) / 2)": np.sqrt(0.5 * (ax * ax + ay * ay))}
+
+
+def proxy_errors(p: dict, eta, E: np.ndarray) -> list:
+    """``[(candidate, errors)]`` of the isotropic proxies and their conductor corrections."""
+    conductor = ggx_anisotropic_energy(p["mu"], p["phi"], p["alpha_x"], p["alpha_y"],
+                                       REFERENCE_ORDER, estimate=False).reflection
+    out = []
+    for name, alpha in _proxies(p).items():
+        iso = _total(ggx_energy(p["mu"], alpha, eta, ISO_ORDER, estimate=False))
+        iso_conductor = ggx_energy(p["mu"], alpha, None, ISO_ORDER, estimate=False).reflection
+        out.append((f"isotropic at the {name}", iso - E))
+        out.append(("... + the conductor's anisotropy, added", iso + conductor - iso_conductor
+                    - E))
+        loss = (1.0 - iso) * (1.0 - conductor) / np.maximum(1.0 - iso_conductor, 1e-12)
+        out.append(("... + the conductor's anisotropy, ratio of losses", 1.0 - loss - E))
+    return out
+
+
+def rule_energy(mu, phi, alpha_x, alpha_y, eta, order: int) -> np.ndarray:
+    """E_R + E_T ``(n,)`` at views (mu, phi) of one interface by the order x order Gauss
+    product rule over the visible-normal sampler's uniforms (both branches)."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    x, w = 0.5 * (x + 1.0), 0.5 * w
+    u = np.stack(np.meshgrid(x, x, indexing="ij"), -1).reshape(-1, 2)
+    weights = np.outer(w, w).ravel()
+    s = np.sqrt(1.0 - mu * mu)
+    wo = np.stack([s * np.cos(phi), s * np.sin(phi), mu], -1)[:, None, :]
+    wo = np.broadcast_to(wo, (len(mu), len(u), 3))
+    ggx = GGX(alpha_x, alpha_y)
+    m = ggx.sample_visible(wo, np.broadcast_to(u, wo.shape[:-1] + (2,)))
+    c = np.sum(wo * m, -1)
+    sin2_t = (1.0 - c * c) / (eta * eta)
+    tir = sin2_t >= 1.0
+    cos_t = np.sqrt(np.maximum(1.0 - sin2_t, 0.0))
+    r_s = (c - eta * cos_t) / (c + eta * cos_t)
+    r_p = (eta * c - cos_t) / (eta * c + cos_t)
+    F = np.where(tir, 1.0, 0.5 * (r_s * r_s + r_p * r_p))
+    lambda_o = ggx.lambda_(wo)
+
+    def kept(wi, above):
+        ok = wi[..., 2] > 0.0 if above else wi[..., 2] < 0.0
+        return np.where(ok, (1.0 + lambda_o) / (1.0 + lambda_o + ggx.lambda_(wi)), 0.0)
+    reflected = 2.0 * c[..., None] * m - wo
+    refracted = -wo / eta + (c / eta - cos_t)[..., None] * m
+    value = F * kept(reflected, True) + np.where(tir, 0.0, (1.0 - F) * kept(refracted, False))
+    return value @ weights
+
+
+def rule_errors(p: dict, eta, E: np.ndarray) -> list:
+    """``[(order, errors, ms per view)]``."""
+    out = []
+    for order in RULE_ORDERS:
+        start = time.perf_counter()
+        value = np.array([rule_energy(p["mu"][i:i + 1], p["phi"][i:i + 1], p["alpha_x"][i],
+                                      p["alpha_y"][i], np.atleast_1d(eta)[i], order)[0]
+                          for i in range(len(E))])
+        out.append((order, value - E, 1e3 * (time.perf_counter() - start) / len(E)))
+    return out
+
+
+def _catmull_rom(t: float) -> np.ndarray:
+    return 0.5 * np.array([-t ** 3 + 2 * t ** 2 - t, 3 * t ** 3 - 5 * t ** 2 + 2,
+                           -3 * t ** 3 + 4 * t ** 2 + t, t ** 3 - t ** 2])
+
+
+def slice_case(axis: str, target: tuple, step: float) -> dict:
+    """Cubic interpolation across four slices at log offsets -1.5, -0.5, 0.5, 1.5 steps
+    around ``target`` along ``axis``, against the target slice, at its parts' nodes and cell
+    midpoints: max |error| of E_R + E_T per side (and of E_R alone), seconds."""
+    alpha, ratio, eta = target
+
+    def at(k):
+        f = np.exp(k * step)
+        return {"alpha": (alpha * f, ratio, eta), "ratio": (alpha, min(ratio * f, 1.0), eta),
+                "eta": (alpha, ratio, 1.0 + (eta - 1.0) * f)}[axis]
+    start = time.perf_counter()
+    exact = dielectric_slice(*target)
+    neighbours = [dielectric_slice(*at(k)) for k in (-1.5, -0.5, 0.5, 1.5)]
+    weights = _catmull_rom(0.5)
+    # the dense side's segments swap their order at eta = sqrt(2) (mu_c = 1 / eta there)
+    above = {s.eta > np.sqrt(2.0) for s in (exact, *neighbours)}
+
+    def layout(s):
+        return [(q.segment, q.band) for q in s.parts]
+    same = len(above) == 1 and all(layout(s) == layout(exact) for s in neighbours)
+    out = {"light": 0.0, "dense": 0.0, "reflection": 0.0, "layout": same}
+    for i, part in enumerate(exact.parts):
+        if not same and part.segment != "outside":
+            continue
+        axes = [a.nodes() for a in part.table.spec.axes]
+        grids = [np.concatenate([n, 0.5 * (n[:-1] + n[1:])]) for n in axes]
+        X, U = np.meshgrid(*grids, indexing="ij")
+        value = part.table(X, U)
+        guess = sum(wk * s.parts[i].table(X, U) for wk, s in zip(weights, neighbours,
+                                                                   strict=True))
+        side = "light" if part.segment == "outside" else "dense"
+        out[side] = max(out[side], float(np.abs(guess.sum(-1) - value.sum(-1)).max()))
+        out["reflection"] = max(out["reflection"],
+                                float(np.abs(guess[..., 0] - value[..., 0]).max()))
+    out["seconds"] = time.perf_counter() - start
+    out["nodes"] = exact.n_nodes
+    return out
+
+
+def measure(smoke: bool = False) -> dict:
+    n = SMOKE_POINTS if smoke else POINTS
+    p = points(n)
+    result = {"n": n, "sides": {}, "slices": []}
+    for side, eta in (("light", p["eta"]), ("dense", 1.0 / p["eta"])):
+        start = time.perf_counter()
+        E = reference(p, eta)
+        seconds = (time.perf_counter() - start) / n
+        k = min(CHECK, n)
+        sub = {key: value[:k] for key, value in p.items()}
+        check = np.abs(reference(sub, eta[:k], CHECK_ORDER) - E[:k]).max()
+        result["sides"][side] = {"reference_seconds": seconds, "reference_check": check,
+                                 "proxies": proxy_errors(p, eta, E),
+                                 "rules": rule_errors(p, eta, E)}
+    for axis, target, step in (SMOKE_SLICE_CASES if smoke else SLICE_CASES):
+        result["slices"].append((axis, target, step, slice_case(axis, target, step)))
+    return result
+
+
+def _stats(errors) -> str:
+    errors = np.abs(np.asarray(errors))
+    return f"{errors.max():.2e} | {np.sqrt(np.mean(errors ** 2)):.2e}"
+
+
+def markdown(result: dict, seconds: float) -> str:
+    now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    out = [f"*Generated by `python -m benchmarks.anisotropic_candidates` on {now} in "
+           f"{seconds:.0f} s; do not edit by hand. The method is the docstring of "
+           "`benchmarks/anisotropic_candidates.py`.*", "",
+           "# Anisotropic dielectric energy: the candidates measured", "",
+           f"E_R + E_T of an anisotropic GGX dielectric at {result['n']} random held-out "
+           "points per side (mu in [0.01, 1], phi in [0, pi/2], alpha_x in [0.02, 1], "
+           "alpha_y / alpha_x in [0, 1], eta in [1.01, 3] log-uniform), against the "
+           f"stretched node quadrature at order {REFERENCE_ORDER}. Machine: "
+           f"{machine.cpu_model()}, {machine.cores()} cores.", "",
+           "| side | reference: seconds per point (one core) | its change at order "
+           f"{CHECK_ORDER} (first {CHECK} points) |", "|---|---|---|"]
+    for side, s in result["sides"].items():
+        out.append(f"| {side} | {s['reference_seconds']:.3f} | {s['reference_check']:.1e} |")
+    out += ["", "## Closed-form proxies", "",
+            "| candidate | light side: max | RMS | dense side: max | RMS |",
+            "|---|---|---|---|---|"]
+    light, dense = result["sides"]["light"], result["sides"]["dense"]
+    for (name, e_light), (_, e_dense) in zip(light["proxies"], dense["proxies"], strict=True):
+        out.append(f"| {name} | {_stats(e_light)} | {_stats(e_dense)} |")
+    out += ["", "## A per-lobe rule over the visible normals", "",
+            "| order | light side: max | RMS | ms per view | dense side: max | RMS | "
+            "ms per view |", "|---|---|---|---|---|---|---|"]
+    for (order, e_light, t_light), (_, e_dense, t_dense) in zip(light["rules"],
+                                                                 dense["rules"], strict=True):
+        out.append(f"| {order} x {order} | {_stats(e_light)} | {t_light:.1f} | "
+                   f"{_stats(e_dense)} | {t_dense:.1f} |")
+    if result["slices"]:
+        out += ["", "## A grid of slices, interpolated across them", "",
+                "| axis | target (alpha, ratio, eta) | log step | light side: max | dense "
+                "side: max | E_R alone: max | same layout | nodes per slice | seconds |",
+                "|---|---|---|---|---|---|---|---|---|"]
+        for axis, target, step, r in result["slices"]:
+            errors = ([f"{r[k]:.1e}" for k in ("light", "dense", "reflection")] if r["layout"]
+                      else [f"{r['light']:.1e}", "—", "—"])
+            out.append(f"| {axis} | {target} | {step:g} | {' | '.join(errors)} | "
+                       f"{'yes' if r['layout'] else 'no (eta crosses sqrt 2)'} | "
+                       f"{r['nodes']} | {r['seconds']:.0f} |")
+    return "\n".join(out) + "\n"
+
+
+def run(out: Path | None = None, smoke: bool = False) -> Path:
+    return write_page(out, NAME, lambda: (measure(smoke),), markdown)
+
+
+def main(argv=None) -> int:
+    return report_main(run, __doc__.splitlines()[0], argv)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
