@@ -63,6 +63,18 @@ def _arg_name(check, index: int) -> str:
     return args[0] if args and isinstance(args[0], str) else f"argument {index}"
 
 
+def _param_shape_of(lobe) -> tuple | None:
+    """``lobe._param_shape()``; where the parameters do not broadcast together,
+    ``ValueError`` naming them (``_params.parameters_error``)."""
+    try:
+        return lobe._param_shape()
+    except ValueError as exc:
+        error = _params.parameters_error(lobe)
+        if error is None:
+            raise
+        raise error from exc
+
+
 def _like(part: np.ndarray, n: int) -> np.ndarray:
     """An output for ``n`` elements shaped as the chunk result ``part``, channel-major in
     memory if ``part`` is, or is one channel broadcast (the copy of each chunk then runs
@@ -323,8 +335,8 @@ class Lobe(_params.Validated):
             return self._batched(fn, ((_params.direction_shape("wo", wo),
                                        partial(_params.check_unit, "wo")),))
         wo = _params.direction("wo", wo)
-        _params.batch_shape([("wo", wo)], self._param_shape(),
-                            f"the {type(self).__name__}'s parameters")
+        _params.batch_shape([("wo", wo)], _param_shape_of(self),
+                            f"the {type(self).__name__}'s parameters", owner=self)
         if method == "quadrature":
             value, error = self._albedo_quadrature(wo, tol)
         else:
@@ -343,10 +355,12 @@ class Lobe(_params.Validated):
         ``config`` on its thread pool, element by element the same arithmetic.
 
         The arguments' batch shapes must broadcast together and with the lobe's parameter
-        shape (where known); otherwise ``ValueError`` naming each argument and its shape."""
+        shape (where known); otherwise ``ValueError`` naming each argument and its shape and
+        the parameters that conflict with them (``_params.broadcast_error``, which finds them
+        only when building the message)."""
         arrays = [a for a, _ in args]
         shapes = [a.shape[:-1] for a in arrays]
-        param_shape = self._param_shape()
+        param_shape = _param_shape_of(self)
         if param_shape:  # () changes no batch; None (unknown) is not checked
             shapes.append(param_shape)
         try:  # one call on the fast path (the batch: only () lobes use it, to chunk)
@@ -354,7 +368,8 @@ class Lobe(_params.Validated):
         except ValueError:
             named = [(_arg_name(check, i), a) for i, (a, check) in enumerate(args)]
             raise _params.broadcast_error(
-                named, param_shape, f"the {type(self).__name__}'s parameters") from None
+                named, param_shape, f"the {type(self).__name__}'s parameters",
+                owner=self) from None
         n = math.prod(batch)
         if n <= config.get_options().chunk_size or param_shape != ():
             for a, check in args:
@@ -368,8 +383,13 @@ class Lobe(_params.Validated):
 
         def run(start, stop):
             chunk = [a[start:stop] for a in flat]
-            for a, check in zip(chunk, checks, strict=True):
-                check(a)
+            try:
+                for a, check in zip(chunk, checks, strict=True):
+                    check(a)
+            except ValueError:  # again on the whole arguments: the message's index is theirs
+                for a, check in args:
+                    check(a)
+                raise
             with _memo.scope():
                 result = fn(*chunk)
             parts = result if isinstance(result, tuple) else (result,)

@@ -597,6 +597,7 @@ class Darkening:
     base_albedo: object = None
     coat_alpha: object = 0.0
 
+    @_params.records  # its parameters are its own, not those of the material that builds it
     def __post_init__(self):
         checked = {"delta": _params.real("delta", self.delta, 0.0, 1.0),
                    "base_roughness": _params.real("base_roughness", self.base_roughness,

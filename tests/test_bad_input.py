@@ -197,8 +197,8 @@ def test_parameters_that_do_not_broadcast_with_the_directions_are_named(sizes, m
            "quadrature": lambda: lobe.albedo(wo)}[method]
     with pytest.raises(ValueError) as excinfo:
         run()
-    assert f"batch shape ({n},) does not broadcast with the Conductor's parameters (shape " \
-           f"({k},))" in _message(excinfo)
+    assert f"batch shape ({n},) does not broadcast with the Conductor's parameter alpha_x " \
+           f"(shape ({k},))" in _message(excinfo)
 
 
 def test_a_textured_material_still_broadcasts():

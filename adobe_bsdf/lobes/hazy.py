@@ -53,7 +53,7 @@ def _narrow_and_wide(mapping: HazeMapping, model: str, compound_masking: bool, m
     wide = distribution(model, *mapping.alpha_w)
     if compound_masking:
         return [make(Mixture(narrow, wide, mapping.beta))], None
-    beta = np.asarray(mapping.beta)
+    beta = np.asarray(mapping.beta)[..., None]  # a grey colour weight (..., 1)
     return [make(narrow), make(wide)], [1.0 - beta, beta]
 
 
