@@ -29,3 +29,39 @@ def test_rule_converges_to_the_node_quadrature():
         exact = ggx_anisotropic_dielectric_energy(mu, phi, 0.6, 0.06, eta, 16, estimate=False)
         rule = ac.rule_energy(mu, phi, 0.6, 0.06, eta, 96)
         np.testing.assert_allclose(rule, exact.reflection + exact.transmission, atol=5e-4)
+
+
+def test_the_fallback_warning_states_the_measured_error():
+    """``ISOTROPIC_FALLBACK_ERROR``, which the table mode's warning states, is the page's
+    measured error of the isotropic tables at sqrt(alpha_x alpha_y) (light, dense side)."""
+    from pathlib import Path
+
+    from adobe_bsdf.lobes.energy_lookup import ISOTROPIC_FALLBACK_ERROR
+
+    page = Path(__file__).resolve().parents[1] / "docs" / ac.NAME
+    row = next(line for line in page.read_text(encoding="utf-8").splitlines()
+               if line.startswith("| isotropic at the geometric mean"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    light, dense = float(cells[1]), float(cells[3])
+    assert ISOTROPIC_FALLBACK_ERROR == (float(f"{light:.2g}"), float(f"{dense:.2g}"))
+
+
+def test_the_table_mode_warns_once_with_the_measured_error():
+    import warnings
+
+    import adobe_bsdf as ab
+    from adobe_bsdf.lobes import energy_lookup
+
+    energy_lookup._FALLBACK_WARNED.clear()
+    wo, wi = np.array([[0.6, 0.0, 0.8]]), np.array([[0.0, 0.6, -0.8]])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ab.lobes.DielectricMS(1.5, 0.5, 0.1).eval(wo, wi)
+        ab.lobes.DielectricMS(1.3, 0.4, 0.05).eval(wo, wi)
+        ab.lobes.DielectricMS(1.5, 0.3).eval(wo, wi)  # isotropic: nothing to say
+    said = [w for w in caught if issubclass(w.category, energy_lookup.AnisotropicEnergyWarning)]
+    assert len(said) == 1
+    light, dense = energy_lookup.ISOTROPIC_FALLBACK_ERROR
+    assert f"{light:.2g}" in str(said[0].message) and f"{dense:.2g}" in str(said[0].message)
+    assert said[0].filename == __file__  # points at the caller, not into the library
+    energy_lookup._FALLBACK_WARNED.clear()

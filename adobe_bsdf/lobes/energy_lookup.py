@@ -12,6 +12,9 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import sys
+import threading
+import warnings
 
 import numpy as np
 
@@ -35,7 +38,8 @@ __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "conductor_avera
            "anisotropic_reflection_average",
            "dielectric_energy", "sides", "exact_anisotropic", "slice_energy", "slice_average",
            "checked_ratio", "reflected_energy", "near_matched", "passes_through",
-           "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU"]
+           "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU", "ISOTROPIC_FALLBACK_ERROR",
+           "AnisotropicEnergyWarning"]
 
 #: narrowest transmitted lobe (radians) kept as a lobe: a rough interface whose refraction
 #: is narrower passes light straight through (``passes_through``, docs/conventions.md)
@@ -50,6 +54,44 @@ MATCHED_MU = 0.05
 _ORDER = 12
 #: below this alpha the band's energy is the smooth interface's (``_integrated``)
 _ALPHA_SMOOTH = 1e-12
+
+
+#: the isotropic tables at sqrt(alpha_x alpha_y) against the stretched node quadrature: the
+#: largest |E_R + E_T| error at held-out anisotropic interfaces (alpha_x in [0.02, 1], any
+#: ratio, ior 1.01-3) seen from the light and from the dense side, measured by
+#: ``benchmarks.anisotropic_candidates`` (docs/anisotropic_candidates_measured.md)
+ISOTROPIC_FALLBACK_ERROR = (0.18, 0.37)
+_FALLBACK_WARNED = threading.Event()
+
+
+class AnisotropicEnergyWarning(UserWarning):
+    """An anisotropic dielectric's energy read from the isotropic tables (the default
+    ``anisotropic_energy = "table"``): its Kulla–Conty terms restore the energy of another
+    roughness, so its white furnace misses by up to ``ISOTROPIC_FALLBACK_ERROR``."""
+
+
+def _warn_isotropic_fallback() -> None:
+    """``AnisotropicEnergyWarning``, once per process."""
+    if _FALLBACK_WARNED.is_set():
+        return
+    _FALLBACK_WARNED.set()
+    light, dense = ISOTROPIC_FALLBACK_ERROR
+    warnings.warn(AnisotropicEnergyWarning(
+        "an anisotropic rough dielectric's energy (E_R + E_T, which its multiple-scattering "
+        "term restores) is read from the isotropic tables at sqrt(alpha_x alpha_y): its white "
+        f"furnace misses by up to {light:.2g} seen from the less dense side and {dense:.2g} "
+        "from the dense side (measured: docs/anisotropic_candidates_measured.md). "
+        "ab.config.options(anisotropic_energy='exact') computes the lobe's own slice "
+        "(seconds per distinct interface; within 2e-3)"), stacklevel=_outside_package())
+
+
+def _outside_package() -> int:
+    """The ``stacklevel`` of the first caller outside ``adobe_bsdf`` (where the user called
+    the library), counted from ``_warn_isotropic_fallback``'s ``warnings.warn``."""
+    frame, level = sys._getframe(2), 2
+    while frame is not None and frame.f_globals.get("__name__", "").startswith("adobe_bsdf"):
+        frame, level = frame.f_back, level + 1
+    return level
 
 
 #: the GGX energy tables with an alpha and with an eta axis, for messages where the lookup's
@@ -462,6 +504,9 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
             total = pick(here, E, total)
             error = _where(here, err, error)
     aniso = np.broadcast_to(is_anisotropic(distribution), shape) if exact else np.False_
+    if not exact and np.any(is_anisotropic(distribution) & ~distribution.smooth
+                            & (eta != 1.0) & ~passes_through(eta, distribution)):
+        _warn_isotropic_fallback()
     # the pass-through keeps the tables' eta = 1 limit, the lobe's own energy there; the
     # exact anisotropic elements read their slices below, so they integrate nothing here
     near = np.broadcast_to(near_matched(ratio, mu) & ~distribution.smooth
