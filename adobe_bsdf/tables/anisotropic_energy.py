@@ -43,6 +43,10 @@ bisection on the root count; the t integral is split there and on ``T_PANELS`` u
 panels. Every piece gets Gauss–Legendre nodes after the sigmoidal change of variable of
 ``energy._rule``. The error estimate is the difference to the same rule at two thirds of the
 order.
+
+Cost: only the brackets found are bisected, each on its own condition; the roots of several
+chunks of nodes and of both orders are found at once (``ROOT_CHUNKS``), and the integrand is
+evaluated on the pieces of nonzero width only (the others pad the knots to one count).
 """
 
 from __future__ import annotations
@@ -73,10 +77,13 @@ PSI_GRID = 129
 T_GRID = 65
 #: bisection steps (then one secant step in psi; t to ~2e-8 rad)
 STEPS_PSI, STEPS_T = 24, 20
-#: nodes processed at once (memory ~ CHUNK x 40 MB at order 16)
+#: nodes whose knots are padded to one count and whose integrals are summed at once
 CHUNK = 2
-#: the same for the dielectric's coarser grids (~ DIELECTRIC_CHUNK x 10 MB at order 8)
+#: the same for the dielectric
 DIELECTRIC_CHUNK = 4
+#: chunks whose roots are found at once (larger, fewer array operations), on at most
+#: ROOT_ROWS t nodes at a time (memory ~ ROOT_ROWS x 20 kB)
+ROOT_CHUNKS, ROOT_ROWS = 4, 2048
 
 
 def projected_alpha(cos_phi, alpha, ratio):
@@ -113,10 +120,18 @@ def unblended(v, alpha_phi):
 
 
 class _Node:
-    """The fixed quantities of a batch of nodes, shaped to broadcast against (n, ...), and
-    the root-finding grids used for them."""
+    """The fixed quantities of a batch of nodes and the root-finding grids used for them.
+    Quantities at m'(t, psi) take the node parameters ``q`` (``_params``: shaped to broadcast
+    against (n, ...); ``_at``: one row per entry) and m = (sin t, cos t, cos psi, sin psi),
+    computed once for all the quantities at the same points."""
 
     psi_grid, t_grid, steps_psi, steps_t = PSI_GRID, T_GRID, STEPS_PSI, STEPS_T
+    #: k - 1 of the layer of each condition (0 where it is no layer)
+    _shift = np.array([0.0] + [k - 1.0 for k in LAYER])
+    #: the first condition of each group the root finders evaluate apart (``_groups``)
+    groups = (0,)
+    #: the integrand's channels
+    channels = 1
 
     def __init__(self, mu, phi, alpha_x, alpha_y):
         s = np.sqrt(np.maximum(1.0 - mu * mu, 0.0))
@@ -135,50 +150,55 @@ class _Node:
         """The node parameters shaped ``(n, 1, ...)`` for results of ``ndim`` dimensions."""
         return {k: v.reshape(v.shape + (1,) * (ndim - 1)) for k, v in self._p.items()}
 
-    def _facet(self, t, psi):
-        """(q, wo'.m', n, N, k) at m'(t, psi): q the node parameters, n = (nx, ny, nz) the
-        rough surface's unnormalised normal, N = |n|^2 and k with the mirror direction
-        wi = k n - wo."""
-        q = self._params(max(np.ndim(t), np.ndim(psi)))
-        st, ct = np.sin(t), np.cos(t)
-        mx, my = st * np.cos(psi), st * np.sin(psi)
+    def _at(self, index, ndim=1):
+        """The parameters of the nodes ``index`` (one per entry), shaped ``(E, 1, ...)``."""
+        return {k: v[index].reshape(index.shape + (1,) * (ndim - 1))
+                for k, v in self._p.items()}
+
+    def _facet(self, q, m):
+        """(wo'.m', n, N, k): n = (nx, ny, nz) the rough surface's unnormalised normal,
+        N = |n|^2 and k with the mirror direction wi = k n - wo."""
+        st, ct, cp, sp = m
+        mx, my = st * cp, st * sp
         c = q["px"] * mx + q["py"] * my + q["pz"] * ct
         nx, ny = q["ax"] * mx, q["ay"] * my
         N = nx * nx + ny * ny + ct * ct
         k = 2.0 * q["S_o"] * c / np.where(N > 0.0, N, 1.0)
-        return q, c, (nx, ny, ct), N, k
+        return c, (nx, ny, ct), N, k
 
-    def fields(self, t, psi):
-        """(wo'.m', mu_i, S_i, mu_o, S_o) at m'(t, psi); the result's first axis is the
-        node's."""
-        q, c, (nx, ny, nz), _, k = self._facet(t, psi)
+    def fields(self, q, m):
+        """(wo'.m', mu_i, S_i, mu_o, S_o)."""
+        c, (nx, ny, nz), _, k = self._facet(q, m)
         ix, iy, iz = k * nx - q["wx"], k * ny - q["wy"], k * nz - q["mu"]
         S_i = np.sqrt(iz * iz + (q["ax"] * ix) ** 2 + (q["ay"] * iy) ** 2)
         return c, iz, S_i, q["mu"], q["S_o"]
 
-    def conditions(self, t, psi):
-        """The functions whose roots split the psi integral, stacked on a last axis."""
-        c, iz, _, mu, _ = self.fields(t, psi)
-        return np.stack([c] + [iz - (k - 1.0) * mu for k in LAYER], axis=-1)
+    def conditions(self, q, m):
+        """The functions whose roots split the psi integral: wo'.m' and mu_i - (k - 1) mu."""
+        c, _, _, k = self._facet(q, m)
+        iz = k * m[1] - q["mu"]
+        return [c] + [iz - shift * q["mu"] for shift in self._shift[1:]]
 
-    def condition(self, t, psi, f):
-        """Condition number ``f`` (an integer array broadcasting against the result)."""
-        return np.take_along_axis(self.conditions(t, psi), f[..., None], -1)[..., 0]
+    def condition(self, q, m, f):
+        """Condition number ``f`` (an integer array broadcasting against the points)."""
+        c, _, _, k = self._facet(q, m)
+        iz = k * m[1] - q["mu"]
+        return np.where(f == 0, c, iz - self._shift[f] * q["mu"])
 
-    def integrand(self, t, psi):
-        c, iz, S_i, mu, S_o = self.fields(t, psi)
+    def integrand(self, q, m):
+        """The integrand's channels (a tuple)."""
+        c, iz, S_i, mu, S_o = self.fields(q, m)
         den = iz * S_o + mu * S_i
         g = np.where((iz > 0.0) & (den > 0.0),
                      2.0 * iz * S_o / np.where(den > 0.0, den, 1.0), 0.0)
-        return np.where(c > 0.0, c, 0.0) * g
+        return (np.where(c > 0.0, c, 0.0) * g,)
 
-    def cos_om(self, t, psi):
+    def cos_om(self, q, m):
         """wo.m = S_o (wo'.m') / |(alpha_x m'_x, alpha_y m'_y, m'_z)| in [0, 1] where the
         facet is visible."""
-        q = self._params(max(np.ndim(t), np.ndim(psi)))
-        c = self.fields(t, psi)[0]
-        st, ct = np.sin(t), np.cos(t)
-        n2 = (q["ax"] * st * np.cos(psi)) ** 2 + (q["ay"] * st * np.sin(psi)) ** 2 + ct * ct
+        st, ct, cp, sp = m
+        c = self._facet(q, m)[0]
+        n2 = (q["ax"] * st * cp) ** 2 + (q["ay"] * st * sp) ** 2 + ct * ct
         return np.clip(q["S_o"] * c / np.sqrt(n2), 0.0, 1.0)
 
 
@@ -189,17 +209,22 @@ class _DielectricNode(_Node):
     2e-6 at order 8 (``tests/test_anisotropic_energy.py``), at two thirds of the cost."""
 
     psi_grid, t_grid, steps_psi, steps_t = 65, 33, 16, 12
+    #: conditions: wo'.m', the layers of wi, those of wt, the critical angle; the first four
+    #: (the mirror's) need no refraction
+    _shift = np.array([0.0] + [k - 1.0 for k in LAYER] * 2 + [0.0])
+    groups = (0, 4)
+    channels = 2
 
     def __init__(self, mu, phi, alpha_x, alpha_y, eta):
         super().__init__(mu, phi, alpha_x, alpha_y)
         self._p["eta"] = eta
         self._p["c_crit"] = np.sqrt(np.maximum(1.0 - eta * eta, 0.0))
 
-    def _refraction(self, t, psi, lengths=True):
-        """(wo'.m', wo.m, mu_i, S_i, mu_t, S_t, q) at m'(t, psi), q the node parameters;
-        mu_t = -wt_z (positive where wt leaves below), continuous through total internal
-        reflection; S_i, S_t None unless ``lengths``."""
-        q, c1, (nx, ny, ct), N, k = self._facet(t, psi)
+    def _refraction(self, q, m, lengths=True):
+        """(wo'.m', wo.m, mu_i, S_i, mu_t, S_t): mu_t = -wt_z (positive where wt leaves
+        below), continuous through total internal reflection; S_i, S_t None unless
+        ``lengths``."""
+        c1, (nx, ny, ct), N, k = self._facet(q, m)
         root = np.sqrt(N)
         iz = k * ct - q["mu"]
         c = q["S_o"] * c1 / root  # wo.m
@@ -208,23 +233,29 @@ class _DielectricNode(_Node):
         b = (c / eta - cos_t) / root  # wt = -wo / eta + b n
         mu_t = q["mu"] / eta - b * ct
         if not lengths:
-            return c1, c, iz, None, mu_t, None, q
+            return c1, c, iz, None, mu_t, None
         ix, iy = k * nx - q["wx"], k * ny - q["wy"]
         S_i = np.sqrt(iz * iz + (q["ax"] * ix) ** 2 + (q["ay"] * iy) ** 2)
         tx, ty = b * nx - q["wx"] / eta, b * ny - q["wy"] / eta
         S_t = np.sqrt(mu_t * mu_t + (q["ax"] * tx) ** 2 + (q["ay"] * ty) ** 2)
-        return c1, c, iz, S_i, mu_t, S_t, q
+        return c1, c, iz, S_i, mu_t, S_t
 
-    def conditions(self, t, psi):
-        c1, c, iz, _, mu_t, _, q = self._refraction(t, psi, lengths=False)
-        mu = q["mu"]
-        rows = [c1] + [iz - (k - 1.0) * mu for k in LAYER] + [mu_t - (k - 1.0) * mu
-                                                               for k in LAYER]
-        rows.append(c - q["c_crit"])  # the critical angle (a no-root constant below it)
-        return np.stack(rows, axis=-1)
+    def conditions(self, q, m):
+        c1, c, iz, _, mu_t, _ = self._refraction(q, m, lengths=False)
+        mu, layers = q["mu"], self._shift[1:4]
+        return ([c1] + [iz - shift * mu for shift in layers]
+                + [mu_t - shift * mu for shift in layers]
+                + [c - q["c_crit"]])  # the critical angle (a no-root constant below it)
 
-    def integrand(self, t, psi):
-        c1, c, iz, S_i, mu_t, S_t, q = self._refraction(t, psi)
+    def condition(self, q, m, f):
+        if np.all(f < 4):  # the mirror's conditions
+            return super().condition(q, m, f)
+        c1, c, iz, _, mu_t, _ = self._refraction(q, m, lengths=False)
+        layer = np.where(f < 4, iz, mu_t) - self._shift[f] * q["mu"]
+        return np.where(f == 0, c1, np.where(f == 7, c - q["c_crit"], layer))
+
+    def integrand(self, q, m):
+        c1, c, iz, S_i, mu_t, S_t = self._refraction(q, m)
         mu, S_o = q["mu"], q["S_o"]
         visible = c1 > 0.0
         F = _dielectric(np.where(visible, np.minimum(c, 1.0), 1.0), q["eta"])
@@ -236,72 +267,116 @@ class _DielectricNode(_Node):
 
         refracts = (1.0 - c * c) < q["eta"] * q["eta"]
         c1 = np.where(visible, c1, 0.0)
-        return np.stack([c1 * F * g(iz, S_i),
-                         np.where(refracts, c1 * (1.0 - F) * g(mu_t, S_t), 0.0)], -1)
+        return c1 * F * g(iz, S_i), np.where(refracts, c1 * (1.0 - F) * g(mu_t, S_t), 0.0)
 
 
-def _crossings(values, grid, limit):
-    """Brackets [a, b] on ``grid`` (last axis) where ``values`` changes sign, at most
-    ``limit`` per row: (a, b, valid), each ``(..., limit)``."""
-    change = np.signbit(values[..., 1:]) != np.signbit(values[..., :-1])
-    first = np.argsort(~change, axis=-1, kind="stable")[..., :limit]
-    valid = np.take_along_axis(change, first, -1)
-    return grid[first], grid[first + 1], valid
+def _first(change, limit):
+    """The first ``limit`` True entries of every row (last axis) of the boolean ``change``:
+    their indices (a tuple, one array per axis) and their rank in the row."""
+    at = np.flatnonzero(change)
+    row, column = np.divmod(at, change.shape[-1])
+    starts = np.ones(len(row), dtype=bool)
+    starts[1:] = row[1:] != row[:-1]
+    count = np.arange(len(row))
+    rank = count - np.maximum.accumulate(np.where(starts, count, 0))
+    keep = rank < limit
+    return np.unravel_index(row[keep], change.shape[:-1]) + (column[keep],), rank[keep]
 
 
-def _psi_roots(node, t):
-    """Sorted psi knots ``(n, T, K)`` at the t nodes ``(n, T)`` (0, the roots, 2 pi)."""
-    psi = np.linspace(0.0, 2.0 * np.pi, node.psi_grid)
-    values = node.conditions(t[..., None], psi)  # (n, T, G, F)
-    values = np.moveaxis(values, -1, -2)  # (n, T, F, G)
-    a, b, valid = _crossings(values, psi, 4)  # (n, T, F, 4)
-    t4 = t[..., None, None]
-    f = np.broadcast_to(np.arange(values.shape[-2])[:, None], a.shape)
-    sign_a = np.signbit(node.condition(t4, a, f))
-    for _ in range(node.steps_psi):
-        mid = 0.5 * (a + b)
-        same = np.signbit(node.condition(t4, mid, f)) == sign_a
-        a, b = np.where(same, mid, a), np.where(same, b, mid)
-    f_a = node.condition(t4, a, f)
-    f_b = node.condition(t4, b, f)
-    # a last secant step in the final bracket
-    den = f_a - f_b
-    root = np.where(den != 0.0, a + (b - a) * f_a / np.where(den != 0.0, den, 1.0), a)
-    root = np.clip(root, a, b)
-    roots = np.where(valid, root, np.nan).reshape(t.shape + (-1,))
-    fixed = np.broadcast_to(np.arange(PSI_PANELS + 1) * (2.0 * np.pi / PSI_PANELS),
-                            t.shape + (PSI_PANELS + 1,))
-    return _compact(np.concatenate([fixed, roots], -1), 2.0 * np.pi)
+def _signs(rows):
+    """np.signbit of the ``rows`` (arrays of one shape), stacked on a first axis."""
+    negative = np.empty((len(rows),) + np.shape(rows[0]), dtype=bool)
+    for r, row in enumerate(rows):
+        np.signbit(row, out=negative[r])
+    return negative
 
 
-def _root_state(node, t):
-    """Number of psi roots of every condition at ``t`` ``(n, M)``, and its sign at psi = 0:
-    ``(n, M, F)`` (a condition that changes sign for all psi at once changes no count)."""
-    psi = np.linspace(0.0, 2.0 * np.pi, node.psi_grid)
-    negative = np.signbit(np.moveaxis(node.conditions(t[..., None], psi), -1, -2))
+def _count(negative):
+    """Root state along psi (last axis): twice the sign changes plus the sign at psi = 0 (a
+    condition that changes sign for all psi at once changes no count)."""
     return 2 * (negative[..., 1:] != negative[..., :-1]).sum(-1) + negative[..., 0]
 
 
-def _t_knots(node, n):
-    """Sorted t knots ``(n, K)``: uniform panels and where a root count changes."""
-    grid = np.linspace(0.0, 0.5 * np.pi, node.t_grid)
-    counts = _root_state(node, np.broadcast_to(grid, (n, node.t_grid)))  # (n, G, F)
-    counts = np.moveaxis(counts, -1, -2)  # (n, F, G)
-    change = counts[..., 1:] != counts[..., :-1]
-    first = np.argsort(~change, axis=-1, kind="stable")[..., :4]  # (n, F, 4)
-    valid = np.take_along_axis(change, first, -1)
-    a, b = grid[first], grid[first + 1]
-    count_a = np.take_along_axis(counts, first, -1)
-    f = np.broadcast_to(np.arange(counts.shape[1])[None, :, None], a.shape)
+def _groups(node, f):
+    """Slices of the entries (sorted by their condition ``f``) in each of ``node.groups``."""
+    bounds = np.append(np.searchsorted(f, node.groups), len(f))
+    return [slice(lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:], strict=True)
+            if hi > lo]
+
+
+def _psi_root(node, q, st, ct, f, a, b, f_a, f_b):
+    """The root in psi in [a, b] of condition ``f`` (``f_a``, ``f_b`` at a and b) at
+    t = arctan(st / ct), one per entry: bisection, then one secant step in the final
+    bracket."""
+    sign_a = np.signbit(f_a)
+    for _ in range(node.steps_psi):
+        mid = 0.5 * (a + b)
+        f_mid = node.condition(q, (st, ct, np.cos(mid), np.sin(mid)), f)
+        same = np.signbit(f_mid) == sign_a
+        a, b = np.where(same, mid, a), np.where(same, b, mid)
+        f_a, f_b = np.where(same, f_mid, f_a), np.where(same, f_b, f_mid)
+    den = f_a - f_b
+    root = np.where(den != 0.0, a + (b - a) * f_a / np.where(den != 0.0, den, 1.0), a)
+    return np.clip(root, a, b)
+
+
+def _psi_roots(node, rows, t):
+    """The psi roots ``(R, 4 F)`` (NaN: none) at the t nodes ``t`` ``(R,)`` of the nodes
+    ``rows``: the first four sign changes of each of the F conditions on the grid, each
+    bisected on its own condition only. Rows equal to the previous one (the zero-width t
+    panels that pad the knots) share its roots."""
+    new = np.ones(len(t), dtype=bool)
+    new[1:] = (t[1:] != t[:-1]) | (rows[1:] != rows[:-1])
+    rows, t = rows[new], t[new]
+    psi = np.linspace(0.0, 2.0 * np.pi, node.psi_grid)
+    cp, sp = np.cos(psi), np.sin(psi)
+    roots = np.full((len(t), 4 * len(node._shift)), np.nan)
+    for block in range(0, len(t), ROOT_ROWS):
+        r = slice(block, block + ROOT_ROWS)
+        st, ct, q = np.sin(t[r]), np.cos(t[r]), node._at(rows[r], 2)
+        values = node.conditions(q, (st[:, None], ct[:, None], cp, sp))
+        negative = _signs(values)
+        (f, j, g), rank = _first(negative[..., 1:] != negative[..., :-1], 4)
+        # the conditions at the ends of the brackets, read from the grid
+        f_a, f_b = np.empty(len(f)), np.empty(len(f))
+        bounds = np.searchsorted(f, np.arange(len(values) + 1))
+        for k, row in enumerate(values):
+            e = slice(bounds[k], bounds[k + 1])
+            f_a[e], f_b[e] = row[j[e], g[e]], row[j[e], g[e] + 1]
+        for e in _groups(node, f):
+            je = j[e]
+            roots[block + je, 4 * f[e] + rank[e]] = _psi_root(
+                node, node._at(rows[r][je]), st[je], ct[je], f[e], psi[g[e]],
+                psi[g[e] + 1], f_a[e], f_b[e])
+    return roots[np.cumsum(new) - 1]
+
+
+def _t_knot(node, q, f, a, b, count_a):
+    """Where the root count of condition ``f`` changes in t in [a, b], one per entry
+    (``count_a`` at a): bisection."""
+    psi = np.linspace(0.0, 2.0 * np.pi, node.psi_grid)
+    cp, sp, f = np.cos(psi), np.sin(psi), f[:, None]
     for _ in range(node.steps_t):
         mid = 0.5 * (a + b)
-        c_mid = _root_state(node, mid.reshape(n, -1)).reshape(mid.shape + (-1,))
-        c_mid = np.take_along_axis(c_mid, f[..., None], -1)[..., 0]
-        same = c_mid == count_a
+        m = (np.sin(mid)[:, None], np.cos(mid)[:, None], cp, sp)
+        same = _count(np.signbit(node.condition(q, m, f))) == count_a
         a, b = np.where(same, mid, a), np.where(same, b, mid)
-    found = np.where(valid, 0.5 * (a + b), np.nan).reshape(n, -1)
-    uniform = np.broadcast_to(np.linspace(0.0, 0.5 * np.pi, T_PANELS + 1), (n, T_PANELS + 1))
-    return _compact(np.concatenate([uniform, found], -1), 0.5 * np.pi)
+    return 0.5 * (a + b)
+
+
+def _t_roots(node):
+    """Where the root counts change in t, ``(n, 4 F)`` (NaN: none): the first four changes
+    of each condition on the grid, each bisected on its own count only."""
+    grid = np.linspace(0.0, 0.5 * np.pi, node.t_grid)
+    psi = np.linspace(0.0, 2.0 * np.pi, node.psi_grid)
+    m = (np.sin(grid)[:, None], np.cos(grid)[:, None], np.cos(psi), np.sin(psi))
+    counts = _count(_signs(node.conditions(node._params(3), m)))  # (F, n, G)
+    (f, i, g), rank = _first(counts[..., 1:] != counts[..., :-1], 4)
+    found = np.full((counts.shape[1], 4 * len(counts)), np.nan)
+    for e in _groups(node, f):
+        found[i[e], 4 * f[e] + rank[e]] = _t_knot(node, node._at(i[e], 2), f[e], grid[g[e]],
+                                                  grid[g[e] + 1], counts[f[e], i[e], g[e]])
+    return found
 
 
 def _compact(knots, end):
@@ -312,25 +387,84 @@ def _compact(knots, end):
     return np.where(np.isfinite(knots[..., :count]), knots[..., :count], end)
 
 
-def _integrate(node, n, order, degree):
+def _pieces(knots, order):
+    """Gauss–Legendre nodes and weights ``(n, K order)`` of the pieces between ``knots``
+    ``(n, K + 1)``, flattened."""
     x, wx = _rule(order)
-    knots = _t_knots(node, n)  # (n, K)
-    ta, tb = knots[:, :-1, None], knots[:, 1:, None]
-    t = (ta + (tb - ta) * x).reshape(n, -1)  # (n, T)
-    w_t = ((tb - ta) * wx).reshape(n, -1) * np.sin(t) / np.pi
-    psi_knots = _psi_roots(node, t)  # (n, T, J)
-    pa, pb = psi_knots[..., :-1, None], psi_knots[..., 1:, None]
-    psi = (pa + (pb - pa) * x).reshape(t.shape + (-1,))  # (n, T, P)
-    w_psi = ((pb - pa) * wx).reshape(psi.shape)
-    values = node.integrand(t[..., None], psi)
-    if values.ndim == 4:  # channels
+    a, b = knots[..., :-1, None], knots[..., 1:, None]
+    shape = knots.shape[:-1] + (-1,)
+    return (a + (b - a) * x).reshape(shape), ((b - a) * wx).reshape(shape)
+
+
+def _live(node, first, t, psi, live, degree):
+    """The integrand ``(n, T, P, channels)`` of the nodes ``first`` + 0 .. n - 1 at the
+    points (t, psi) where ``live`` (and, for ``degree`` > 0, 2 wo.m - 1 there), zero
+    elsewhere: the pieces of zero width, which pad the knots to the same count, weigh zero
+    (and the integrand is finite)."""
+    st, ct = np.sin(t), np.cos(t)
+    n, T, P = psi.shape
+    values = np.zeros((n, T * P, node.channels))
+    x_om = np.zeros((n, T * P)) if degree else None
+    for k in range(n):
+        at = np.flatnonzero(live[k])
+        j, ps = at // P, psi[k].ravel()[at]
+        q = node._at(np.array([first + k]))
+        m = (st[k, j], ct[k, j], np.cos(ps), np.sin(ps))
+        for c, v in enumerate(node.integrand(q, m)):
+            values[k, at, c] = v
+        if degree:
+            x_om[k, at] = 2.0 * node.cos_om(q, m) - 1.0
+    return values.reshape(psi.shape + (-1,)), x_om
+
+
+def _integrate(node, first, t, w_t, psi_knots, order, degree):
+    """The integrals ``(n, channels or degree + 1)`` of the nodes ``first`` + 0 .. n - 1
+    on the t nodes ``t`` (weights ``w_t``, ``(n, T)``) split at ``psi_knots`` (``(n, T,
+    J)``)."""
+    n = len(t)
+    psi, w_psi = _pieces(psi_knots, order)  # (n, T, P)
+    live = (w_t[..., None] != 0.0) & (w_psi != 0.0)
+    values, x_om = _live(node, first, t, psi, live, degree)
+    if node.channels > 1:
         return np.einsum("nt,ntp,ntpc->nc", w_t, w_psi, values)
+    values = values[..., 0]
     if degree == 0:
         return np.einsum("nt,ntp,ntp->n", w_t, w_psi, values)[:, None]
     weighted = (w_t[..., None] * w_psi * values).reshape(n, 1, -1)
-    x_om = (2.0 * node.cos_om(t[..., None], psi) - 1.0).reshape(n, -1)
-    legendre = np.polynomial.legendre.legvander(x_om, degree)  # (n, T P, degree + 1)
+    legendre = np.polynomial.legendre.legvander(x_om.reshape(n, -1), degree)
     return (weighted @ legendre)[:, 0]
+
+
+def _quadrature(make, args, chunk, orders, degree):
+    """The integrals ``(N, len(orders), channels or degree + 1)`` at each of ``orders`` of
+    the nodes ``make(*args)`` (N each) by chunks of ``chunk`` nodes, whose knots are padded
+    to one count; the roots of ``ROOT_CHUNKS`` chunks at all orders are found at once."""
+    uniform = np.linspace(0.0, 0.5 * np.pi, T_PANELS + 1)
+    fixed = np.arange(PSI_PANELS + 1) * (2.0 * np.pi / PSI_PANELS)
+    out = np.empty((len(args[0]), len(orders), make.channels if degree == 0 else degree + 1))
+    for start in range(0, len(args[0]), chunk * ROOT_CHUNKS):
+        node = make(*[a[start:start + chunk * ROOT_CHUNKS] for a in args])
+        found = _t_roots(node)
+        parts = []  # (first node, order index, t, w_t), t (chunk, T)
+        for first in range(0, len(found), chunk):
+            part = found[first:first + chunk]
+            knots = _compact(np.concatenate(
+                [np.broadcast_to(uniform, (len(part), T_PANELS + 1)), part], -1), 0.5 * np.pi)
+            for k, order in enumerate(orders):
+                t, w_t = _pieces(knots, order)
+                parts.append((first, k, t, w_t * np.sin(t) / np.pi))
+        rows = np.concatenate([np.repeat(first + np.arange(len(t)), t.shape[1])
+                               for first, _, t, _ in parts])
+        roots = _psi_roots(node, rows, np.concatenate([t.ravel() for _, _, t, _ in parts]))
+        at = 0
+        for first, k, t, w_t in parts:
+            part = roots[at:at + t.size].reshape(t.shape + (-1,))
+            at += t.size
+            psi_knots = _compact(np.concatenate(
+                [np.broadcast_to(fixed, t.shape + (PSI_PANELS + 1,)), part], -1), 2.0 * np.pi)
+            out[start + first:start + first + len(t), k] = _integrate(
+                node, first, t, w_t, psi_knots, orders[k], degree)
+    return out
 
 
 def ggx_anisotropic_moments(mu, phi, alpha_x, alpha_y, degree: int, order: int = 16,
@@ -348,16 +482,10 @@ def _run(mu, phi, alpha_x, alpha_y, order, estimate, degree):
                                    for a in (mu, phi, alpha_x, alpha_y)])
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
-    value, error = np.zeros((flat[0].size, degree + 1)), np.zeros((flat[0].size, degree + 1))
-    low = max(2, (2 * order) // 3)
-    for start in range(0, len(value), CHUNK):
-        part = [a[start:start + CHUNK] for a in flat]
-        n = len(part[0])
-        node = _Node(*part)
-        hi = _integrate(node, n, order, degree)
-        value[start:start + n] = hi
-        if estimate:
-            error[start:start + n] = np.abs(hi - _integrate(node, n, low, degree))
+    orders = (order, max(2, (2 * order) // 3)) if estimate else (order,)
+    result = _quadrature(_Node, flat, CHUNK, orders, degree)
+    value = result[:, 0]
+    error = np.abs(value - result[:, 1]) if estimate else np.zeros_like(value)
     return value.reshape(shape + (-1,)), error.reshape(shape + (-1,))
 
 
@@ -401,16 +529,10 @@ def ggx_anisotropic_dielectric_energy(mu, phi, alpha_x, alpha_y, eta, order: int
                                    for a in (mu, phi, alpha_x, alpha_y, eta)])
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
-    value, error = np.zeros((flat[0].size, 2)), np.zeros((flat[0].size, 2))
-    low = max(2, (2 * order) // 3)
-    for start in range(0, len(value), DIELECTRIC_CHUNK):
-        part = [a[start:start + DIELECTRIC_CHUNK] for a in flat]
-        n = len(part[0])
-        node = _DielectricNode(*part)
-        hi = _integrate(node, n, order, 0)
-        value[start:start + n] = hi
-        if estimate:
-            error[start:start + n] = np.abs(hi - _integrate(node, n, low, 0))
+    orders = (order, max(2, (2 * order) // 3)) if estimate else (order,)
+    result = _quadrature(_DielectricNode, flat, DIELECTRIC_CHUNK, orders, 0)
+    value = result[:, 0]
+    error = np.abs(value - result[:, 1]) if estimate else np.zeros_like(value)
     mu_f, eta_f = flat[0], flat[4]
     matched = eta_f == 1.0
     if np.any(matched):
