@@ -215,19 +215,8 @@ def measure(pairs: int, runs: int, log=None) -> dict:
                 tp._call(defaults[spec], call, wo[:WARM], wi[:WARM], u[:WARM])
         for inputs, values, spec, params in configurations():
             row = {"inputs": inputs, "values": values, "spec": spec, "notes": []}
-            try:
-                material, row["build"], said = _build(spec, params)
-                row["lobes"] = list(material.lobes)
-                row["notes"] += [f"warns: {s}" for s in said]
-                row.update(_timed(material, defaults[spec], wo, wi, u, runs))
-                if row["n"] < pairs:
-                    row["notes"].append(f"timed on {row['n']} pairs, scaled to {pairs}")
-            except Exception as exc:  # reported in the page
-                row["error"] = f"{type(exc).__name__}: {exc}"
-            rows.append(row)
-            if log:
-                log(f"{inputs} ({spec}): eval ×{row.get('eval_ratio', float('nan')):.2f}, "
-                    f"sample ×{row.get('sample_ratio', float('nan')):.2f}")
+            rows.append(_row(row, spec, params, defaults[spec], wo, wi, u, runs, log,
+                             f"{inputs} ({spec})"))
     return {"pairs": pairs, "runs": runs, "rows": rows,
             "film_rows": film_rows(wo, wi, u, runs, log)}
 
@@ -239,22 +228,36 @@ def film_rows(wo, wi, u, runs, log=None) -> list:
     with options(threads=1):
         for name, params in FILM_BASES.items():
             row = {"base": name, "params": params, "notes": []}
-            try:
-                base, _, _ = _build("1.1.1", params)
+
+            def base(params=params):
+                material, _, _ = _build("1.1.1", params)
                 for call in CALLS:
-                    tp._call(base, call, wo[:WARM], wi[:WARM], u[:WARM])
-                material, row["build"], said = _build("1.1.1", {**params, **_FILM})
-                row["notes"] += [f"warns: {s}" for s in said]
-                row.update(_timed(material, base, wo, wi, u, runs))
-                if row["n"] < len(wo):
-                    row["notes"].append(f"timed on {row['n']} pairs, scaled to {len(wo)}")
-            except Exception as exc:  # reported in the page
-                row["error"] = f"{type(exc).__name__}: {exc}"
-            rows.append(row)
-            if log:
-                log(f"film over {name}: eval ×{row.get('eval_ratio', float('nan')):.2f}, "
-                    f"sample ×{row.get('sample_ratio', float('nan')):.2f}")
+                    tp._call(material, call, wo[:WARM], wi[:WARM], u[:WARM])
+                return material
+            rows.append(_row(row, "1.1.1", {**params, **_FILM}, base, wo, wi, u, runs, log,
+                             f"film over {name}"))
     return rows
+
+
+def _row(row: dict, spec, params, reference, wo, wi, u, runs, log, label: str) -> dict:
+    """``row`` with the build of the material of ``params`` and its timings against
+    ``reference`` (a material, or a function that builds it; ``_timed``), or the error it
+    raised; logged as ``label``."""
+    try:
+        material, row["build"], said = _build(spec, params)
+        row["lobes"] = list(material.lobes)
+        row["notes"] += [f"warns: {s}" for s in said]
+        if callable(reference) and not hasattr(reference, "eval"):
+            reference = reference()
+        row.update(_timed(material, reference, wo, wi, u, runs))
+        if row["n"] < len(wo):
+            row["notes"].append(f"timed on {row['n']} pairs, scaled to {len(wo)}")
+    except Exception as exc:  # reported in the page
+        row["error"] = f"{type(exc).__name__}: {exc}"
+    if log:
+        log(f"{label}: eval ×{row.get('eval_ratio', float('nan')):.2f}, "
+            f"sample ×{row.get('sample_ratio', float('nan')):.2f}")
+    return row
 
 
 def _worst(rows, key):
