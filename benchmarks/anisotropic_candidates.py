@@ -152,6 +152,19 @@ def _catmull_rom(t: float) -> np.ndarray:
                            -3 * t ** 3 + 4 * t ** 2 + t, t ** 3 - t ** 2])
 
 
+#: the slices built by ``slice_case``, by (alpha, ratio, eta)
+_SLICES: dict = {}
+
+
+def _slice(alpha: float, ratio: float, eta: float):
+    """``dielectric_slice`` of the arguments, its build time kept (``_SLICES``)."""
+    key = (float(alpha), float(ratio), float(eta))
+    if key not in _SLICES:
+        start = time.perf_counter()
+        _SLICES[key] = (dielectric_slice(*key), time.perf_counter() - start)
+    return _SLICES[key][0]
+
+
 def slice_case(axis: str, target: tuple, step: float) -> dict:
     """Cubic interpolation across four slices at log offsets -1.5, -0.5, 0.5, 1.5 steps
     around ``target`` along ``axis``, against the target slice, at its parts' nodes and cell
@@ -163,8 +176,8 @@ def slice_case(axis: str, target: tuple, step: float) -> dict:
         return {"alpha": (alpha * f, ratio, eta), "ratio": (alpha, min(ratio * f, 1.0), eta),
                 "eta": (alpha, ratio, 1.0 + (eta - 1.0) * f)}[axis]
     start = time.perf_counter()
-    exact = dielectric_slice(*target)
-    neighbours = [dielectric_slice(*at(k)) for k in (-1.5, -0.5, 0.5, 1.5)]
+    exact = _slice(*target)
+    neighbours = [_slice(*at(k)) for k in (-1.5, -0.5, 0.5, 1.5)]
     weights = _catmull_rom(0.5)
     # the dense side's segments swap their order at eta = sqrt(2) (mu_c = 1 / eta there)
     above = {s.eta > np.sqrt(2.0) for s in (exact, *neighbours)}
@@ -207,7 +220,54 @@ def measure(smoke: bool = False) -> dict:
                                  "rules": rule_errors(p, eta, E)}
     for axis, target, step in (SMOKE_SLICE_CASES if smoke else SLICE_CASES):
         result["slices"].append((axis, target, step, slice_case(axis, target, step)))
+    if _SLICES:
+        result["grid"] = grid_cost(GRID_STEP)
+        result["rank"] = rank_study()
     return result
+
+
+#: the log step of the grid of slices whose cost ``grid_cost`` estimates, and its ranges:
+#: alpha_max (below ``GRID_ALPHA[0]`` the slice's coordinates make it the alpha -> 0 limit,
+#: one more slice), alpha_min / alpha_max (ratio 0, the one-dimensional surface, one more),
+#: eta - 1 (in two grids that meet at eta = sqrt 2, where the dense side's segments swap)
+GRID_STEP = 0.3
+GRID_ALPHA, GRID_RATIO, GRID_ETA = (0.005, 2.0), (0.01, 1.0), (0.01, 2.0)
+WORKERS = (8, 32, 128)
+
+
+def grid_cost(step: float) -> dict:
+    """Slices of the five-dimensional grid at ``step`` (log) per axis and what they cost:
+    the mean build time of this run's slices (one core), the raw size in float32."""
+    def count(lo, hi):
+        return int(np.ceil(np.log(hi / lo) / step)) + 1
+    n_alpha = count(*GRID_ALPHA) + 1
+    n_ratio = count(*GRID_RATIO) + 1
+    n_eta = count(*GRID_ETA) + 1  # one node twice, at sqrt 2
+    slices = n_alpha * n_ratio * n_eta
+    built = list(_SLICES.values())
+    seconds = float(np.mean([t for _, t in built]))
+    nodes = int(np.mean([s.n_nodes for s, _ in built]))
+    return {"step": step, "counts": (n_alpha, n_ratio, n_eta), "slices": slices,
+            "nodes": nodes, "seconds": seconds, "core_hours": slices * seconds / 3600.0,
+            "megabytes": slices * nodes * 2 * 4 / 2 ** 20}
+
+
+def rank_study() -> dict:
+    """The singular values of this run's slices of one layout (eta = 1.5: E_R + E_T at every
+    part's nodes, one row per slice): the rank a truncated SVD of a grid of slices needs
+    for a given error (its largest entry error), as a first look at how compressible the
+    grid is."""
+    rows = [s for (_, _, eta), (s, _) in _SLICES.items() if eta == 1.5]
+    if len(rows) < 3:
+        return {}
+    matrix = np.stack([np.concatenate([p.table.values.sum(-1).ravel() for p in s.parts])
+                       for s in rows])
+    U, sigma, Vt = np.linalg.svd(matrix, full_matrices=False)
+    errors = []
+    for k in range(1, len(sigma) + 1):
+        approx = (U[:, :k] * sigma[:k]) @ Vt[:k]
+        errors.append(float(np.abs(approx - matrix).max()))
+    return {"slices": len(rows), "columns": matrix.shape[1], "errors": errors}
 
 
 def _stats(errors) -> str:
@@ -254,6 +314,34 @@ def markdown(result: dict, seconds: float) -> str:
             out.append(f"| {axis} | {target} | {step:g} | {' | '.join(errors)} | "
                        f"{'yes' if r['layout'] else 'no (eta crosses sqrt 2)'} | "
                        f"{r['nodes']} | {r['seconds']:.0f} |")
+    if result.get("grid"):
+        g = result["grid"]
+        within = max(max(r["light"], r["dense"]) for _, _, step, r in result["slices"]
+                     if step == g["step"] and r["layout"])
+        out += ["", "## What a five-dimensional table of slices would cost", "",
+                f"At a log step of {g['step']:g} on every axis (the step of the rows above "
+                f"that interpolate within {within:.1e}): alpha_max in [{GRID_ALPHA[0]:g}, "
+                f"{GRID_ALPHA[1]:g}] and its limit 0, alpha_min / alpha_max in "
+                f"[{GRID_RATIO[0]:g}, {GRID_RATIO[1]:g}] and 0, eta - 1 in [{GRID_ETA[0]:g}, "
+                f"{GRID_ETA[1]:g}] in two grids meeting at sqrt 2: "
+                f"{' x '.join(map(str, g['counts']))} = {g['slices']} slices of "
+                f"{g['nodes']} nodes (E_R, E_T). This run built a slice in {g['seconds']:.1f} "
+                f"s on average (one core): **{g['core_hours']:.1f} core-hours** to bake "
+                f"({g['core_hours'] / machine.cores():.1f} h on this machine's "
+                f"{machine.cores()} cores; "
+                + ", ".join(f"{g['core_hours'] * 60 / w:.0f} min on {w} workers"
+                            for w in WORKERS)
+                + f"), **{g['megabytes']:.0f} MB** in float32 before any compression."]
+    rank = result.get("rank")
+    if rank:
+        shown = [k for k in (1, 2, 4, 8, 12, 16, 20, 24) if k <= len(rank["errors"])]
+        out += ["", f"How compressible: the {rank['slices']} slices of this run at eta = 1.5 "
+                f"(E_R + E_T at their {rank['columns']} nodes) as a matrix, truncated to rank "
+                "k by its SVD; the largest entry error:", "",
+                "| k | " + " | ".join(map(str, shown)) + " |",
+                "|---|" + "---|" * len(shown),
+                "| max error | " + " | ".join(f"{rank['errors'][k - 1]:.1e}" for k in shown)
+                + " |"]
     return "\n".join(out) + "\n"
 
 
