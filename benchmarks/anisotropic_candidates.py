@@ -60,7 +60,11 @@ SLICE_CASES = [("alpha", (0.3, 0.3, 1.5), 0.3), ("alpha", (0.3, 0.3, 1.5), 0.6),
                ("alpha", (0.05, 0.2, 1.5), 0.3), ("ratio", (0.3, 0.3, 1.5), 0.3),
                ("ratio", (0.3, 0.3, 1.5), 0.6), ("ratio", (0.3, 0.05, 1.5), 0.3),
                ("eta", (0.3, 0.3, 1.2), 0.3), ("eta", (0.3, 0.3, 2.2), 0.3),
-               ("eta", (0.3, 0.3, 1.5), 0.3)]
+               ("eta", (0.3, 0.3, 1.5), 0.3),
+               # the corners of the grid: low and high roughness, a nearly one-dimensional
+               # surface, an index near 1
+               ("alpha", (0.01, 0.3, 1.5), 0.3), ("alpha", (1.2, 0.3, 1.5), 0.3),
+               ("ratio", (0.3, 0.015, 1.5), 0.3), ("eta", (0.3, 0.3, 1.02), 0.3)]
 SMOKE_SLICE_CASES: list = []
 
 
