@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import functools
 import time
 import warnings
 from pathlib import Path
@@ -215,8 +216,8 @@ def measure(pairs: int, runs: int, log=None) -> dict:
                 tp._call(defaults[spec], call, wo[:WARM], wi[:WARM], u[:WARM])
         for inputs, values, spec, params in configurations():
             row = {"inputs": inputs, "values": values, "spec": spec, "notes": []}
-            rows.append(_row(row, spec, params, defaults[spec], wo, wi, u, runs, log,
-                             f"{inputs} ({spec})"))
+            rows.append(_row(row, spec, params, functools.partial(defaults.get, spec), wo, wi,
+                             u, runs, log, f"{inputs} ({spec})"))
     return {"pairs": pairs, "runs": runs, "rows": rows,
             "film_rows": film_rows(wo, wi, u, runs, log)}
 
@@ -241,15 +242,13 @@ def film_rows(wo, wi, u, runs, log=None) -> list:
 
 def _row(row: dict, spec, params, reference, wo, wi, u, runs, log, label: str) -> dict:
     """``row`` with the build of the material of ``params`` and its timings against
-    ``reference`` (a material, or a function that builds it; ``_timed``), or the error it
-    raised; logged as ``label``."""
+    the material ``reference()`` returns (``_timed``), or the error either raised; logged as
+    ``label``."""
     try:
         material, row["build"], said = _build(spec, params)
         row["lobes"] = list(material.lobes)
         row["notes"] += [f"warns: {s}" for s in said]
-        if callable(reference) and not hasattr(reference, "eval"):
-            reference = reference()
-        row.update(_timed(material, reference, wo, wi, u, runs))
+        row.update(_timed(material, reference(), wo, wi, u, runs))
         if row["n"] < len(wo):
             row["notes"].append(f"timed on {row['n']} pairs, scaled to {len(wo)}")
     except Exception as exc:  # reported in the page

@@ -504,8 +504,9 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
             total = pick(here, E, total)
             error = _where(here, err, error)
     aniso = np.broadcast_to(is_anisotropic(distribution), shape) if exact else np.False_
-    if not exact and np.any(is_anisotropic(distribution) & ~distribution.smooth
-                            & (eta != 1.0) & ~passes_through(eta, distribution)):
+    if not (exact or _FALLBACK_WARNED.is_set()) and np.any(
+            is_anisotropic(distribution) & ~distribution.smooth
+            & (eta != 1.0) & ~passes_through(eta, distribution)):
         _warn_isotropic_fallback()
     # the pass-through keeps the tables' eta = 1 limit, the lobe's own energy there; the
     # exact anisotropic elements read their slices below, so they integrate nothing here

@@ -296,18 +296,14 @@ class Conductor(MicrofacetReflection):
 
     def _albedo_table(self, wo, with_error=True):
         if isinstance(self.fresnel, ThinFilm):
-            return self._filmed()._albedo_table(wo, with_error)
+            return self._filmed._albedo_table(wo, with_error)
         return super()._albedo_table(wo, with_error)
 
+    @functools.cached_property
     def _filmed(self) -> ReferencedReflection:
         """The ``ReferencedReflection`` of this lobe's film over the white conductor, built
-        on the first call and kept (its table with it)."""
-        referenced = self.__dict__.get("_referenced")
-        if referenced is None:
-            referenced = ReferencedReflection._new(Conductor._new(self.distribution, None),
-                                                   self.fresnel)
-            self._referenced = referenced
-        return referenced
+        on first use and kept (its table with it)."""
+        return ReferencedReflection._new(Conductor._new(self.distribution, None), self.fresnel)
 
 
 class ReferencedReflection(MicrofacetReflection):
