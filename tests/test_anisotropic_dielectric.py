@@ -139,6 +139,52 @@ def test_slice_parts_tile_the_dense_side(eta, mu, cos_phi):
     np.testing.assert_allclose(back, (mu_, c_), rtol=0, atol=1e-9)
 
 
+def _directions_by_steps(part, x, u):
+    """``_Part.directions`` as declared: ``_STEPS`` fixed-point steps over every point."""
+    c = np.asarray(u, dtype=np.float64)
+    t = dielectric_slices._two_sided_inverse(c, part._u_edges)
+    for _ in range(1 if part.segment == "plain" else dielectric_slices._STEPS):
+        mu = part._mu(x, c)
+        lo, hi = part._band(mu)
+        c = lo + t * (hi - lo)
+    return mu, c
+
+
+def test_slice_directions_stop_at_their_fixed_points(piece):
+    """The node directions stop iterating where a point has reached its fixed point: the
+    same bits as every step over every point."""
+    for part in piece.parts[1:]:
+        X, U = np.meshgrid(*[np.linspace(0.0, 1.0, 23)] * 2, indexing="ij")
+        for got, want in zip(part.directions(X, U), _directions_by_steps(part, X, U),
+                             strict=True):
+            np.testing.assert_array_equal(got, want)
+
+
+def test_slice_lookup_reads_the_covering_part(piece):
+    """One pass that assigns each direction its part reads, bit for bit, the table of the
+    part whose ``covers`` holds (the declared partition); the one-output channels are the
+    sum and E_R of the two-output lookup, to rounding."""
+    rng = np.random.default_rng(5)
+    n = 4000
+    mu, c = rng.uniform(0.0, 1.0, n), rng.uniform(0.0, 1.0, n)
+    mu[:40], mu[40:80] = 0.0, 1.0
+    mu[80:120] = piece.parts[1].mu_c
+    c[120:160], c[160:200] = 0.0, 1.0
+    on_light = rng.uniform(size=n) < 0.3
+    want = np.zeros((n, 2))
+    for part in piece.parts:
+        mask = on_light if part.segment == "outside" else ~on_light & part.covers(mu, c)
+        want[mask] = part.table(*part.coordinates(mu[mask], c[mask]))
+    got = piece(on_light, mu, c)
+    np.testing.assert_array_equal(got, want)
+    np.testing.assert_allclose(piece.channel("total", on_light, mu, c), want.sum(-1),
+                               rtol=0, atol=1e-14)
+    np.testing.assert_allclose(piece.channel("reflection", on_light, mu, c), want[:, 0],
+                               rtol=0, atol=1e-14)
+    assert piece(True, 0.5, 0.5).shape == (2,)
+    assert piece.channel("total", np.ones((2, 3), bool), 0.5, 0.2).shape == (2, 3)
+
+
 def test_slice_averages(piece):
     """The averages the Kulla–Conty terms normalise by are those of the slice's own
     interpolant: a midpoint rule over (mu, phi) agrees to 2e-4."""

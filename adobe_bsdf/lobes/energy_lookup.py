@@ -396,37 +396,49 @@ def exact_anisotropic(distribution: GGX) -> bool:
 
 
 def _slices(eta, distribution: GGX, shape):
-    """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one
-    ``dielectric_slice`` per distinct (alpha, ratio, index ratio)."""
+    """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one slice per
+    distinct (alpha, ratio, index ratio) of the parameters, its mask ``shape``
+    (a broadcast view where the parameters are scalars)."""
     alpha, ratio = _alpha_ratio(distribution)
     index = checked_ratio(eta, "ggx_dielectric_anisotropic (the slices)")
-    aniso, alpha, ratio, index = (np.broadcast_to(a, shape) for a in (
+    params = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
+    aniso, alpha, ratio, index = (np.broadcast_to(a, params) for a in (
         is_anisotropic(distribution), alpha, ratio, index))
     rows = np.stack([alpha[aniso], ratio[aniso], index[aniso]], -1)
     unique, inverse = np.unique(rows, axis=0, return_inverse=True)
     where = np.argwhere(aniso)
     for k, (a, r, e) in enumerate(unique):
-        mask = np.zeros(shape, dtype=bool)
+        mask = np.zeros(params, dtype=bool)
         mask[tuple(where[inverse.ravel() == k].T)] = True
-        yield mask, dielectric_slice(a, r, e)
+        yield np.broadcast_to(mask, shape), dielectric_slice(a, r, e)
 
 
-def slice_energy(eta, distribution: GGX, wo, with_error: bool = False):
-    """``(E, error)``, each ``(..., 2)`` (E_R, E_T): the anisotropic elements' slices
-    (``tables.dielectric_slices``) seen from ``wo``'s side, 0 elsewhere and in the tangent
-    plane; error None unless ``with_error``."""
+def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
+                 channel: str = "total"):
+    """``(E, error)``, each ``(...)``: E_R + E_T (``channel`` "total") or E_R ("reflection")
+    of the anisotropic elements' slices (``tables.dielectric_slices``) seen from ``wo``'s
+    side, 0 elsewhere and in the tangent plane; error None unless ``with_error``."""
     _, cos_phi, _, _ = anisotropic_coordinates(distribution, wo)
     mu = np.minimum(np.abs(wo[..., 2]), 1.0)
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
     shape = np.broadcast_shapes(mu.shape, np.shape(eta), distribution.param_shape)
-    E = np.zeros(shape + (2,))
-    error = np.zeros(shape + (2,)) if with_error else None
+    E = np.zeros(shape)
+    error = np.zeros(shape) if with_error else None
     mu, cos_phi, on_light = (np.broadcast_to(a, shape) for a in (mu, cos_phi, on_light))
+
+    def errors(piece, *args):
+        e = piece.error(*args)
+        return e.sum(-1) if channel == "total" else e[..., 0]
     for mask, piece in _slices(eta, distribution, shape):
-        E[mask] = piece(on_light[mask], mu[mask], cos_phi[mask])
+        if mask.strides == (0,) * mask.ndim:  # every element: one scalar interface
+            E[...] = piece.channel(channel, on_light, mu, cos_phi)
+            if with_error:
+                error[...] = errors(piece, on_light, mu, cos_phi)
+            continue
+        E[mask] = piece.channel(channel, on_light[mask], mu[mask], cos_phi[mask])
         if with_error:
-            error[mask] = piece.error(on_light[mask], mu[mask], cos_phi[mask])
-    grazing = (np.broadcast_to(wo[..., 2], shape) == 0.0)[..., None]
+            error[mask] = errors(piece, on_light[mask], mu[mask], cos_phi[mask])
+    grazing = np.broadcast_to(wo[..., 2], shape) == 0.0
     return pick(grazing, 0.0, E), None if error is None else pick(grazing, 0.0, error)
 
 
@@ -491,8 +503,10 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
     total = np.zeros(shape)
     error = np.zeros(shape) if with_error else None
     scalar = alpha.ndim == 0 and ratio.ndim == 0 and mu.shape == shape and mu.ndim > 0
-    for name, here in (("ggx_dielectric_outside", on_light),
-                       ("ggx_dielectric_inside", ~on_light)):
+    # every element reads its slice below: no table is looked up
+    tables_read = () if exact and np.all(is_anisotropic(distribution)) else (
+        ("ggx_dielectric_outside", on_light), ("ggx_dielectric_inside", ~on_light))
+    for name, here in tables_read:
         if scalar:  # only the directions on this side
             index = np.nonzero(here)
             E, err = lookup(name, mu[index], with_error, alpha=alpha, eta=ratio)
@@ -520,8 +534,8 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
             error[near] = err_R + err_T
     if exact:
         E_s, error_s = slice_energy(eta, distribution, wo, with_error)
-        total = pick(aniso, E_s.sum(-1), total)
-        error = None if error is None else pick(aniso, error_s.sum(-1), error)
+        total = pick(aniso, E_s, total)
+        error = None if error is None else pick(aniso, error_s, error)
     # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
     grazing = wo[..., 2] == 0.0
     total = pick(matched, 1.0, pick(grazing, 0.0, total))

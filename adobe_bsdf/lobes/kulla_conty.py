@@ -264,7 +264,7 @@ class SeparableDielectricMS(Separable):
         energy, c = self._film
 
         def filmed(w):
-            E = dielectric_energy(self.eta, self.distribution, w)[0]
+            E = dielectric_energy(self.eta, self.distribution, w, exact=self.exact)[0]
             return E[..., None] + energy(np.abs(w[..., 2]), self._on_light(w))
         return _memo.once(energy, "E", w, filmed)[..., c], None
 

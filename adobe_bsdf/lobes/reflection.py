@@ -888,11 +888,12 @@ class DielectricReflection(MicrofacetReflection):
         E = grey(pick(up, E, 0.0))
         error = grey(None if error is None else pick(up, error, 0.0))
         if self.exact:
-            E_s, error_s = slice_energy(self.eta, self.distribution, wo, with_error)
+            E_s, error_s = slice_energy(self.eta, self.distribution, wo, with_error,
+                                         "reflection")
             aniso = np.asarray(aniso)[..., None]
-            E = pick(aniso, grey(pick(up, E_s[..., 0], 0.0)), E)
+            E = pick(aniso, grey(pick(up, E_s, 0.0)), E)
             if with_error:
-                error = pick(aniso, grey(pick(up, error_s[..., 0], 0.0)), error)
+                error = pick(aniso, grey(pick(up, error_s, 0.0)), error)
         smooth = self.distribution.smooth
         if np.any(smooth):  # the exact Fresnel, not its interpolation in eta
             smooth = smooth[..., None]

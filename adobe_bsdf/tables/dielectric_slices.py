@@ -60,7 +60,8 @@ from adobe_bsdf.tables.anisotropic_energy import (
 from adobe_bsdf.tables.table import Axis, Table, TableSpec
 
 __all__ = ["DielectricSlice", "dielectric_slice", "SLICE_ORDER", "SLICE_NODES",
-           "SLICE_NODE_ERROR"]
+           "SLICE_NODE_ERROR", "layout", "node_directions", "node_energy", "filled",
+           "assembled"]
 
 #: Gauss–Legendre order of the slice's nodes
 SLICE_ORDER = 8
@@ -215,12 +216,22 @@ class _Part:
         c = np.asarray(u, dtype=np.float64)
         if self.segment == "outside":
             return self._mu(x, c), c
+        x, c = np.broadcast_arrays(np.asarray(x, dtype=np.float64), c)
+        shape, x, c = c.shape, x.ravel(), c.ravel().copy()
         t = _two_sided_inverse(c, self._u_edges)
+        mu = np.empty_like(c)
+        active = np.arange(c.size)
         for _ in range(1 if self.segment == "plain" else _STEPS):
-            mu = self._mu(x, c)
-            lo, hi = self._band(mu)
-            c = lo + t * (hi - lo)
-        return mu, c
+            m = self._mu(x[active], c[active])
+            lo, hi = self._band(m)
+            step = lo + t[active] * (hi - lo)
+            mu[active] = m
+            moved = step != c[active]  # where a fixed point is reached, every step repeats it
+            c[active] = step
+            active = active[moved]
+            if not active.size:
+                break
+        return mu.reshape(shape), c.reshape(shape)
 
     def covers(self, mu, c):
         """Where a direction (mu, |cos phi| = c) of the dense side belongs to this part: mu
@@ -241,6 +252,7 @@ def _axis(name: str, n: int, log_scale: float) -> Axis:
 
 def _part(segment: str, band: str, alpha: float, ratio: float, eta_seen: float,
           mu_c: float, lo: float = 0.0, hi: float = 1.0) -> _Part:
+    """The part's layout: its table's declaration, the values not yet computed (zeros)."""
     part = _Part(segment, band, mu_c, alpha, ratio, lo, hi)
     if segment == "outside":
         n_x, n_u = SLICE_NODES["outside"]
@@ -256,12 +268,67 @@ def _part(segment: str, band: str, alpha: float, ratio: float, eta_seen: float,
                      f"{band}, alpha={alpha:g}, ratio={ratio:g}, eta={eta_seen:g}]",
                      (x_axis, u_axis), ("E_R", "E_T"), None,
                      "anisotropic_energy.ggx_anisotropic_dielectric_energy", SLICE_ORDER)
+    zeros = np.zeros(spec.shape)
+    return replace(part, table=Table(spec, zeros, zeros))
+
+
+def layout(alpha: float, ratio: float, eta: float) -> tuple:
+    """The parts of the slice of (``alpha``, ``ratio``, index ratio ``eta`` >= 1), their
+    tables declared and not computed: the light side's, then the dense side's (``_segments``
+    and their bands)."""
+    alpha, ratio, eta = float(alpha), float(ratio), float(eta)
+    mu_c = float(np.sqrt(1.0 - 1.0 / (eta * eta)))
+    parts = [_part("outside", "outside", alpha, ratio, eta, mu_c)]
+    for segment, lo, hi in _segments(mu_c):
+        bands = ["near"] if hi <= mu_c else []
+        bands += ["mid"] + (["far"] if hi <= np.sqrt(1.0 - mu_c * mu_c) else [])
+        parts += [_part(segment, band, alpha, ratio, 1.0 / eta, mu_c, lo, hi)
+                  for band in bands]
+    return tuple(parts)
+
+
+def node_directions(parts) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(mu, cos_phi, on_light)``, each ``(n_nodes,)``: the directions of every node of
+    ``parts`` (a ``layout``), part after part, each part's nodes in its table's order."""
+    mu, c, light = [], [], []
+    for part in parts:
+        m, k = part.directions(*part.table.spec.grid())
+        mu.append(m.ravel())
+        c.append(k.ravel())
+        light.append(np.full(m.size, part.segment == "outside"))
+    return np.concatenate(mu), np.concatenate(c), np.concatenate(light)
+
+
+def node_energy(alpha: float, ratio: float, eta: float, mu, cos_phi, on_light,
+                order: int = SLICE_ORDER) -> np.ndarray:
+    """``(n, 2)`` (E_R, E_T) of the interface at the directions given (``node_directions``),
+    by the stretched node quadrature."""
+    a = max(float(alpha), ALPHA_FLOOR)
+    eta_seen = np.where(on_light, float(eta), 1.0 / float(eta))
+    e = ggx_anisotropic_dielectric_energy(mu, np.arccos(np.clip(cos_phi, 0.0, 1.0)), a,
+                                          float(ratio) * a, eta_seen, order, estimate=False)
+    return np.stack([e.reflection, e.transmission], -1)
+
+
+def filled(parts, values: np.ndarray, error: float = SLICE_NODE_ERROR) -> tuple:
+    """``parts`` with their tables holding ``values`` ``(n_nodes, 2)`` (``node_directions``'
+    order) and node error ``error``."""
+    out, start = [], 0
+    for part in parts:
+        spec = part.table.spec
+        n = int(np.prod(spec.shape[:-1]))
+        v = np.asarray(values[start:start + n], dtype=np.float64).reshape(spec.shape)
+        out.append(replace(part, table=Table(spec, v, np.full(spec.shape, error))))
+        start += n
+    return tuple(out)
+
+
+def _computed(part: _Part, eta: float) -> _Part:
+    """``part`` (of index ratio ``eta``) with its table's nodes computed."""
+    spec = part.table.spec
     mu, c = part.directions(*spec.grid())
-    a = max(alpha, ALPHA_FLOOR)
-    e = ggx_anisotropic_dielectric_energy(mu, np.arccos(np.clip(c, 0.0, 1.0)), a, ratio * a,
-                                          eta_seen, SLICE_ORDER, estimate=False)
-    values = np.stack([e.reflection, e.transmission], -1).reshape(spec.shape)
-    return replace(part, table=Table(spec, values, np.full(spec.shape, SLICE_NODE_ERROR)))
+    values = node_energy(part.alpha, part.ratio, eta, mu, c, part.segment == "outside")
+    return filled((part,), values.reshape(-1, 2))[0]
 
 
 def _average(part: _Part) -> np.ndarray:
@@ -313,6 +380,25 @@ class DielectricSlice:
         """The node error carried to the same points (``Table.error``)."""
         return self._lookup(on_light, mu, cos_phi, True)
 
+    def channel(self, name: str, on_light, mu, cos_phi) -> np.ndarray:
+        """``(...)``: E_R + E_T (``name`` "total") or E_R ("reflection") at the same points,
+        from one-output tables of the sum or of E_R (the interpolant is linear in the
+        values: ``__call__``'s channel or sum, to rounding), which a lookup evaluates as
+        one polynomial per cell (``Table._polynomial``)."""
+        return self._lookup(on_light, mu, cos_phi, False, self._channels[name])[..., 0]
+
+    @functools.cached_property
+    def _channels(self) -> dict:
+        """One-output tables per part: ``{"total": (...), "reflection": (...)}``."""
+        def single(part, values, label):
+            spec = replace(part.table.spec, name=f"{part.table.spec.name}[{label}]",
+                           outputs=(label,))
+            return Table(spec, values[..., None], np.zeros(values.shape + (1,)))
+        return {"total": tuple(single(p, p.table.values.sum(-1), "E_R + E_T")
+                               for p in self.parts),
+                "reflection": tuple(single(p, p.table.values[..., 0], "E_R")
+                                    for p in self.parts)}
+
     @property
     def n_nodes(self) -> int:
         """Nodes of all its tables."""
@@ -329,29 +415,62 @@ class DielectricSlice:
         return np.where(np.asarray(on_light)[..., None], self.average_outside,
                         self.average_inside)
 
-    def _lookup(self, on_light, mu, cos_phi, error):
-        on_light, mu, cos_phi = np.broadcast_arrays(on_light, mu, cos_phi)
-        out = np.zeros(mu.shape + (2,))
-        for part in self.parts:
-            mask = on_light if part.segment == "outside" else ~on_light & part.covers(mu, cos_phi)
-            if np.any(mask):
-                coords = part.coordinates(mu[mask], cos_phi[mask])
-                out[mask] = part.table.error(*coords) if error else part.table(*coords)
-        return out
+    def _lookup(self, on_light, mu, cos_phi, error, tables=None):
+        """(..., n_outputs) of the parts' tables (or of ``tables``, one per part)."""
+        tables = tables or tuple(part.table for part in self.parts)
+        shape = np.broadcast_shapes(*(np.shape(a) for a in (on_light, mu, cos_phi)))
+        on_light, mu, cos_phi = (np.ravel(a) for a in np.broadcast_arrays(on_light, mu,
+                                                                          cos_phi))
+        n_outputs = tables[0].values.shape[-1]
+        out = np.zeros(mu.shape + (n_outputs,))
+        which = np.full(mu.shape, -1)
+        which[on_light] = 0
+        dense = np.flatnonzero(~on_light)
+        if dense.size:
+            which[dense] = self._dense_part(mu[dense], cos_phi[dense])
+        order = np.argsort(which, kind="stable")
+        ends = np.searchsorted(which[order], np.arange(len(self.parts) + 1))
+        for k, (part, table) in enumerate(zip(self.parts, tables, strict=True)):
+            here = order[ends[k]:ends[k + 1]]
+            if here.size:
+                coords = part.coordinates(mu[here], cos_phi[here])
+                out[here] = table.error(*coords) if error else table(*coords)
+        return out.reshape(shape + (n_outputs,))
+
+    def _dense_part(self, mu, c) -> np.ndarray:
+        """The index in ``parts`` of the dense side's part that holds each direction (the
+        one whose ``_Part.covers`` is true), -1 where none does."""
+        index = {(p.segment, p.lo, p.band): k for k, p in enumerate(self.parts)}
+        segments = [(p.segment, p.lo, p.hi) for p in self.parts[1:]]
+        which = np.full(mu.shape, -1)
+        k1, k2 = _kinks(mu, self.parts[1].mu_c)
+        band = np.where(c < k1, 0, np.where(c > k2, 2, 1))
+        names = ("near", "mid", "far")
+        a_phi = None
+        for segment, lo, hi in dict.fromkeys(segments):
+            here = (mu >= lo) & ((mu < hi) | (hi == 1.0))
+            if segment != "plain":
+                if a_phi is None:
+                    a_phi = self.parts[1]._a_phi(c)
+                grazing = 2.0 * blended(mu, a_phi) < blended(hi, a_phi)
+                here &= grazing == (segment == "grazing")
+            for b, name in enumerate(names):
+                k = index.get((segment, lo, name))
+                if k is not None:
+                    which[here & (band == b)] = k
+        return which
+
+
+def assembled(alpha: float, ratio: float, eta: float, parts) -> DielectricSlice:
+    """The ``DielectricSlice`` of filled ``parts``, with their averages (``_average``)."""
+    inside = sum(_average(part) for part in parts[1:])
+    return DielectricSlice(float(alpha), float(ratio), float(eta), tuple(parts),
+                           _average(parts[0]), inside)
 
 
 @functools.lru_cache(maxsize=CACHED_SLICES)
 def dielectric_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice:
     """The slice of the interface with alpha_max = ``alpha``, alpha_min = ``ratio`` alpha
     and index ratio ``eta`` >= 1 (dense / light)."""
-    alpha, ratio, eta = float(alpha), float(ratio), float(eta)
-    mu_c = float(np.sqrt(1.0 - 1.0 / (eta * eta)))
-    parts = [_part("outside", "outside", alpha, ratio, eta, mu_c)]
-    for segment, lo, hi in _segments(mu_c):
-        bands = ["near"] if hi <= mu_c else []
-        bands += ["mid"] + (["far"] if hi <= np.sqrt(1.0 - mu_c * mu_c) else [])
-        parts += [_part(segment, band, alpha, ratio, 1.0 / eta, mu_c, lo, hi)
-                  for band in bands]
-    parts = tuple(parts)
-    inside = sum(_average(part) for part in parts[1:])
-    return DielectricSlice(alpha, ratio, eta, parts, _average(parts[0]), inside)
+    return assembled(alpha, ratio, eta,
+                     tuple(_computed(part, float(eta)) for part in layout(alpha, ratio, eta)))

@@ -55,9 +55,9 @@ def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, exact=
                                 ior, with_error)
     aniso = _anisotropic(microfacets)
     if exact:
-        E, error_s = slice_energy(ior, microfacets, w, with_error)
-        L = pick(aniso, E[..., 0], L)
-        error = pick(aniso, error_s[..., 0], error) if with_error else None
+        E, error_s = slice_energy(ior, microfacets, w, with_error, "reflection")
+        L = pick(aniso, E, L)
+        error = pick(aniso, error_s, error) if with_error else None
     elif np.any(aniso):
         dL, error_d = anisotropic_reflection(microfacets, _reference(roughness), ior, w,
                                              with_error)
