@@ -555,8 +555,10 @@ def _parser(prog: str) -> argparse.ArgumentParser:
             "writes nothing.", 88),
         epilog=_bake_epilog(), formatter_class=argparse.RawDescriptionHelpFormatter)
     p_bake.add_argument("names", nargs="*", metavar="NAME",
-                        help="tables to bake (default: all); tables derived from them are "
-                        "re-derived")
+                        help="tables to bake (default: all the shipped ones); tables derived "
+                        "from them are re-derived. ggx_dielectric_anisotropic, the grid of "
+                        "anisotropic dielectric slices (hours of compute; resumes), is baked "
+                        "only when named, into --out")
     p_bake.add_argument("--out", metavar="DIR",
                         help="write the tables to DIR (default: the folder shown below)")
     p_bake.add_argument("--in-place", action="store_true",
@@ -587,15 +589,17 @@ def _parser(prog: str) -> argparse.ArgumentParser:
 def _bake(args, prog: str) -> int:
     from adobe_bsdf.tables import SPECS, TableError
     from adobe_bsdf.tables.bake import BakeError, run
+    from adobe_bsdf.tables.dielectric_grid import NAME as GRID
 
     def fail(message):
         print(f"{prog} bake: error: {message}", file=sys.stderr)
         return 2
 
-    unknown = [n for n in args.names if n not in SPECS]
+    known = [*SPECS, GRID]
+    unknown = [n for n in args.names if n not in known]
     if unknown:
         return fail(f"unknown table{'s' if len(unknown) > 1 else ''} "
-                    f"{', '.join(map(repr, unknown))}; known tables: {', '.join(SPECS)}")
+                    f"{', '.join(map(repr, unknown))}; known tables: {', '.join(known)}")
     if args.in_place and args.out:
         return fail("--in-place writes the shipped tables; it does not take --out")
     if args.in_place and args.resolution:
@@ -606,8 +610,8 @@ def _bake(args, prog: str) -> int:
                        workers=args.workers, scheduler=args.scheduler,
                        dask_workers=args.dask_workers, resolution=args.resolution,
                        out=args.out, in_place=args.in_place)
-    except (TableError, BakeError) as exc:  # a bad table file, no Dask: one line, no traceback
-        return fail(str(exc))
+    except (TableError, BakeError, ValueError) as exc:  # a bad table file, no Dask, options
+        return fail(str(exc))                           # that do not combine: one line
     except KeyboardInterrupt:  # the finished blocks are kept (and said where)
         return 130
     return 1 if failures else 0

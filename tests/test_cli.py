@@ -236,7 +236,7 @@ def test_bake_unknown_name_is_one_line_with_the_known_names(capsys):
     code, out, err = _run(["bake", "ggx_conductor", "nope"], capsys)
     assert code == 2 and out == ""
     assert err == (f"adobe-bsdf bake: error: unknown table 'nope'; known tables: "
-                   f"{', '.join(SPECS)}\n")
+                   f"{', '.join(SPECS)}, ggx_dielectric_anisotropic\n")
 
 
 def test_bake_in_place_takes_no_other_folder(capsys, tmp_path):

@@ -223,8 +223,17 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler
     from adobe_bsdf.tables.store import data_dir, spec
     from adobe_bsdf.tables.table import TableError, load, save
 
+    from adobe_bsdf.tables import dielectric_grid
+
+    grid = dielectric_grid.NAME in names
+    names = [n for n in names if n != dielectric_grid.NAME]
+    only_grid = grid and not names
     for name in names:
         spec(name)  # unknown names raise before any work
+    if grid and (do_check or in_place or resolution):
+        raise ValueError(f"{dielectric_grid.NAME} (the grid of anisotropic dielectric "
+                         "slices, not yet read by the library) is baked into --out only: "
+                         "without --check, --in-place or --resolution")
     if in_place and (out is not None or resolution):
         raise ValueError("in_place writes the shipped tables: it takes neither out nor "
                          "resolution")
@@ -256,7 +265,10 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler
     with open_executor(workers, scheduler, dask_workers) as ex:
         if ex.kind != "in process":
             print(f"computing on {ex}", flush=True)
-        for name in _ordered(list(names) or list(SPECS)):
+        if grid:
+            path = dielectric_grid.bake(folder, ex, progress=True)
+            print(f"{dielectric_grid.NAME:28s} {path.stat().st_size / 2**20:8.1f} MB", flush=True)
+        for name in [] if only_grid else _ordered(list(names) or list(SPECS)):
             s = spec(name)
             if resolution:
                 s = _resized(name, resolution)
