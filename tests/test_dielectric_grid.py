@@ -72,3 +72,57 @@ def test_the_grid_is_baked_into_a_folder_only(capsys):
         assert main(["bake", grid.NAME, *option]) == 2
         err = capsys.readouterr().err
         assert grid.NAME in err, option
+
+
+
+def _quadratic_grid(n_nodes: int, seed: int = 3):
+    """A grid whose every node value is a quadratic in (q_alpha, q_ratio, q_eta), which
+    cubic convolution (with its quadratic end extrapolation) reproduces exactly, and the
+    quadratic itself."""
+    coefficients = np.random.default_rng(seed).normal(size=(10, n_nodes, 2))
+
+    def basis(qa, qr, qe):
+        return np.stack([np.ones_like(qa), qa, qr, qe, qa * qa, qr * qr, qe * qe, qa * qr,
+                         qa * qe, qr * qe], -1)
+    values = {}
+    for half, axes in grid.HALVES.items():
+        Q = np.meshgrid(*[a.nodes() for a in axes], indexing="ij")
+        values[half] = np.einsum("abcj,jnk->abcnk", basis(*Q), coefficients)
+
+    def exact(alpha, ratio, eta):
+        q = (np.log(alpha + grid.ALPHA_OFFSET), np.log(ratio + grid.RATIO_OFFSET),
+             np.log(eta - 1.0 + grid.ETA_OFFSET))
+        return np.tensordot(basis(*map(np.asarray, q)), coefficients, axes=(0, 0))
+    return values, exact
+
+
+@pytest.mark.parametrize("interface", [(0.37, 0.21, 1.23), (1.9, 0.003, 2.9),
+                                       (0.0, 1.0, 1.01), (0.004, 0.6, 1.6)])
+def test_interpolated_slice_between_grid_points(interface):
+    """Off the grid points, every node's value is the interpolant's: a quadratic in the
+    grid's coordinates comes back to rounding, laid out at the interface's own parts."""
+    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1])) for p in _layout(interface))
+    values, exact = _quadratic_grid(n_nodes)
+    piece = grid.interpolated_slice(values, *interface)
+    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
+    np.testing.assert_allclose(got, exact(*interface), rtol=0, atol=1e-9)
+    assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
+        (p.segment, p.band, p.lo, p.hi) for p in _layout(interface)]
+
+
+def _layout(interface):
+    from adobe_bsdf.tables.dielectric_slices import layout
+    return layout(*interface)
+
+
+def test_interpolated_slice_off_the_grid_and_at_sqrt2():
+    """An index outside [1.01, 3] has no slice on the grid; within the gap about sqrt 2 the
+    nearer half's end is read."""
+    n = sum(int(np.prod(p.table.spec.shape[:-1])) for p in _layout((0.3, 0.3, 1.3)))
+    values, _ = _quadratic_grid(n)
+    assert grid.interpolated_slice(values, 0.3, 0.3, 1.005) is None
+    assert grid.interpolated_slice(values, 0.3, 0.3, 3.01) is None
+    at = grid.interpolated_slice(values, 0.3, 0.3, np.sqrt(2.0) * (1.0 - 1e-7))
+    end = grid.interpolated_slice(values, 0.3, 0.3, grid.grid_points("below")[-1, 2])
+    for a, b in zip(at.parts, end.parts, strict=True):
+        np.testing.assert_array_equal(a.table.values, b.table.values)

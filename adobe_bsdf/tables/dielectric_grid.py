@@ -8,6 +8,10 @@ Public API
                            them (``(n_nodes, 2)`` E_R, E_T, float32).
 ``bake(folder, executor)`` every grid point's slice, resumably: one file per finished slice
                            in ``<folder>/<NAME>.partial``, then ``<folder>/<NAME>.npz``.
+``interpolated_slice(grid, alpha, ratio, eta)``
+                           the ``DielectricSlice`` of any interface on the grid: its node
+                           values interpolated across the grid points (cubic convolution
+                           per axis, ``Axis.stencil``); None where eta is off the grid.
 
 Why a grid of slices (``docs/anisotropic_candidates_measured.md``): node for node, a slice's
 values (in coordinates aligned with the critical angle and the kinks of a nearly
@@ -36,11 +40,18 @@ from pathlib import Path
 
 import numpy as np
 
-from adobe_bsdf.tables.dielectric_slices import layout, node_directions, node_energy
+from adobe_bsdf.tables.dielectric_slices import (
+    DielectricSlice,
+    assembled,
+    filled,
+    layout,
+    node_directions,
+    node_energy,
+)
 from adobe_bsdf.tables.table import Axis
 
-__all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "ETA_MIN", "ETA_MAX",
-           "ALPHA_MAX"]
+__all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "interpolated_slice",
+           "ETA_MIN", "ETA_MAX", "ALPHA_MAX"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -121,3 +132,34 @@ def bake(folder, executor, progress: bool = True) -> Path:
     out = folder / f"{NAME}.npz"
     np.savez(out, **arrays)
     return out
+
+
+def _half(eta: float) -> tuple[str, float]:
+    """The half of index ratio ``eta`` and its q_eta (within ``SQRT2_GAP`` of sqrt 2, the
+    nearer half's end)."""
+    half = "below" if eta < _ROOT2 else "above"
+    axis = HALVES[half][2]
+    return half, float(np.clip(np.log(eta - 1.0 + ETA_OFFSET), axis.lo, axis.hi))
+
+
+def interpolated_slice(grid: dict, alpha: float, ratio: float,
+                       eta: float) -> DielectricSlice | None:
+    """The slice of (alpha_max ``alpha`` in [0, ``ALPHA_MAX``], ``ratio`` in [0, 1], index
+    ratio ``eta``) from ``grid`` (``{half: values (n_alpha, n_ratio, n_eta, n_nodes, 2)}``,
+    as ``bake`` writes them): every node's value interpolated across the 4 x 4 x 4 grid
+    points around it, the parts laid out at the grid's eta (the interface's own, except
+    within ``SQRT2_GAP`` of sqrt 2); None where ``eta`` is outside [``ETA_MIN``,
+    ``ETA_MAX``]."""
+    alpha, ratio, eta = float(alpha), float(ratio), float(eta)
+    if not ETA_MIN <= eta <= ETA_MAX:
+        return None
+    half, q_eta = _half(eta)
+    coords = (np.log(min(alpha, ALPHA_MAX) + ALPHA_OFFSET),
+              np.log(min(max(ratio, 0.0), 1.0) + RATIO_OFFSET), q_eta)
+    values = np.asarray(grid[half])
+    for axis, q in zip(HALVES[half], coords, strict=True):
+        index, weight = axis.stencil(np.clip(q, axis.lo, axis.hi))
+        values = np.tensordot(weight, values[index], axes=(0, 0))  # the axis contracted
+    eta_grid = 1.0 + np.exp(q_eta) - ETA_OFFSET
+    parts = filled(layout(alpha, ratio, eta_grid), values.astype(np.float64))
+    return assembled(alpha, ratio, eta, parts)
