@@ -376,15 +376,21 @@ def anisotropic_coordinates(distribution: GGX, w, blend: bool = False):
                          f"ggx_conductor_anisotropic: {_INSTEAD}")
     safe = pick(alpha > 0.0, alpha, 1.0)
     ratio = pick(alpha > 0.0, np.minimum(alpha_x, alpha_y) / safe, 1.0)
-    x2, y2 = w[..., 0] ** 2, w[..., 1] ** 2
-    along = pick(alpha_x >= alpha_y, x2, y2)  # along the axis of alpha
-    horizontal = x2 + y2
-    cos_phi = pick(horizontal > 0.0, np.sqrt(np.minimum(
-        along / pick(horizontal > 0.0, horizontal, 1.0), 1.0)), 1.0)
+    cos_phi = _cos_phi(alpha_x >= alpha_y, w)
     mu = np.minimum(np.abs(w[..., 2]), 1.0)
     a_phi = projected_alpha(cos_phi, alpha, ratio)
     s = blended(mu, a_phi) if blend else similarity(mu, a_phi)
     return np.minimum(s, 1.0), cos_phi, alpha, ratio
+
+
+def _cos_phi(x_rough, w):
+    """|cos phi| of ``w``'s azimuth from the rough axis (x where ``x_rough``, else y); 1 at
+    normal incidence."""
+    x2, y2 = w[..., 0] ** 2, w[..., 1] ** 2
+    along = pick(x_rough, x2, y2)  # along the axis of alpha
+    horizontal = x2 + y2
+    return pick(horizontal > 0.0, np.sqrt(np.minimum(
+        along / pick(horizontal > 0.0, horizontal, 1.0), 1.0)), 1.0)
 
 
 def exact_anisotropic(distribution: GGX) -> bool:
@@ -402,6 +408,11 @@ def _slices(eta, distribution: GGX, shape):
     alpha, ratio = _alpha_ratio(distribution)
     index = checked_ratio(eta, "ggx_dielectric_anisotropic (the slices)")
     params = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
+    if params == ():  # one interface (anisotropic: the caller asked for its slice)
+        if is_anisotropic(distribution):
+            yield np.broadcast_to(True, shape), dielectric_slice(float(alpha), float(ratio),
+                                                                 float(index))
+        return
     aniso, alpha, ratio, index = (np.broadcast_to(a, params) for a in (
         is_anisotropic(distribution), alpha, ratio, index))
     rows = np.stack([alpha[aniso], ratio[aniso], index[aniso]], -1)
@@ -418,7 +429,7 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     """``(E, error)``, each ``(...)``: E_R + E_T (``channel`` "total") or E_R ("reflection")
     of the anisotropic elements' slices (``tables.dielectric_slices``) seen from ``wo``'s
     side, 0 elsewhere and in the tangent plane; error None unless ``with_error``."""
-    _, cos_phi, _, _ = anisotropic_coordinates(distribution, wo)
+    cos_phi = _cos_phi(distribution.alpha_x >= distribution.alpha_y, wo)
     mu = np.minimum(np.abs(wo[..., 2]), 1.0)
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
     shape = np.broadcast_shapes(mu.shape, np.shape(eta), distribution.param_shape)
@@ -496,17 +507,29 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
     names = "ggx_dielectric_outside and ggx_dielectric_inside"
     alpha = table_alpha(distribution, names)
     ratio = checked_ratio(eta, names)
+    matched = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
+    if exact and np.all(is_anisotropic(distribution)):  # every element reads its slice
+        total, error = slice_energy(eta, distribution, wo, with_error)
+    else:
+        total, error = _tabulated(eta, distribution, wo, alpha, ratio, with_error, exact)
+    # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
+    grazing = wo[..., 2] == 0.0
+    total = pick(matched, 1.0, pick(grazing, 0.0, total))
+    return total, None if error is None else pick(matched | grazing, 0.0, error)
+
+
+def _tabulated(eta, distribution: GGX, wo, alpha, ratio, with_error: bool, exact: bool):
+    """``dielectric_energy`` before its smooth, index-matched and grazing directions: the
+    tables, the integrated ``near_matched`` directions, and with ``exact`` the slices of the
+    anisotropic elements."""
     mu = np.abs(wo[..., 2])
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
-    matched = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
     shape = np.broadcast_shapes(mu.shape, alpha.shape, ratio.shape)
     total = np.zeros(shape)
     error = np.zeros(shape) if with_error else None
     scalar = alpha.ndim == 0 and ratio.ndim == 0 and mu.shape == shape and mu.ndim > 0
-    # every element reads its slice below: no table is looked up
-    tables_read = () if exact and np.all(is_anisotropic(distribution)) else (
-        ("ggx_dielectric_outside", on_light), ("ggx_dielectric_inside", ~on_light))
-    for name, here in tables_read:
+    for name, here in (("ggx_dielectric_outside", on_light),
+                       ("ggx_dielectric_inside", ~on_light)):
         if scalar:  # only the directions on this side
             index = np.nonzero(here)
             E, err = lookup(name, mu[index], with_error, alpha=alpha, eta=ratio)
@@ -536,10 +559,7 @@ def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
         E_s, error_s = slice_energy(eta, distribution, wo, with_error)
         total = pick(aniso, E_s, total)
         error = None if error is None else pick(aniso, error_s, error)
-    # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
-    grazing = wo[..., 2] == 0.0
-    total = pick(matched, 1.0, pick(grazing, 0.0, total))
-    return total, None if error is None else pick(matched | grazing, 0.0, error)
+    return total, error
 
 
 def reflected_energy(name: str, mu, alpha, ratio, table_axes: dict, eta_seen,

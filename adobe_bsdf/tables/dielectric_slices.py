@@ -381,23 +381,57 @@ class DielectricSlice:
         return self._lookup(on_light, mu, cos_phi, True)
 
     def channel(self, name: str, on_light, mu, cos_phi) -> np.ndarray:
-        """``(...)``: E_R + E_T (``name`` "total") or E_R ("reflection") at the same points,
-        from one-output tables of the sum or of E_R (the interpolant is linear in the
-        values: ``__call__``'s channel or sum, to rounding), which a lookup evaluates as
-        one polynomial per cell (``Table._polynomial``)."""
-        return self._lookup(on_light, mu, cos_phi, False, self._channels[name])[..., 0]
+        """``(...)``: E_R + E_T (``name`` "total") or E_R ("reflection") at the same points:
+        the interpolant of the sum or of E_R (``__call__``'s, to rounding: it is linear in
+        the values), evaluated as one polynomial per cell (``Table._polynomial``) whose
+        coefficients, for every part's cells, sit in one array (``_cells``), so that the
+        points of all parts are evaluated together, bit for bit as part by part."""
+        shape = np.broadcast_shapes(*(np.shape(a) for a in (on_light, mu, cos_phi)))
+        on_light, mu, cos_phi = (np.ravel(a) for a in np.broadcast_arrays(on_light, mu,
+                                                                          cos_phi))
+        offsets, coefficients = self._cells[name]
+        which = self._which(on_light, mu, cos_phi)
+        cell = np.full(mu.shape, offsets[-1])  # the last cell is 0: points of no part
+        t_x, t_u = np.zeros(mu.shape), np.zeros(mu.shape)
+        for k, part in enumerate(self.parts):
+            here = np.flatnonzero(which == k)
+            if here.size:
+                x_axis, u_axis = part.table.spec.axes
+                x, u = part.coordinates(mu[here], cos_phi[here])
+                # (x, u) in [0, 1] by construction (``_Part.coordinates``)
+                (i, t_x[here]), (j, t_u[here]) = (x_axis.locate(x, checked=False),
+                                                  u_axis.locate(u, checked=False))
+                cell[here] = offsets[k] + i * (u_axis.n - 1) + j
+
+        def horner(c, t):
+            value = c(3) * t
+            for p in (2, 1):
+                value += c(p)
+                value *= t
+            value += c(0)
+            return value
+        value = horner(lambda p: horner(lambda q: np.take(coefficients[p, q], cell), t_u),
+                       t_x)
+        return value.reshape(shape)
 
     @functools.cached_property
-    def _channels(self) -> dict:
-        """One-output tables per part: ``{"total": (...), "reflection": (...)}``."""
-        def single(part, values, label):
-            spec = replace(part.table.spec, name=f"{part.table.spec.name}[{label}]",
-                           outputs=(label,))
-            return Table(spec, values[..., None], np.zeros(values.shape + (1,)))
-        return {"total": tuple(single(p, p.table.values.sum(-1), "E_R + E_T")
-                               for p in self.parts),
-                "reflection": tuple(single(p, p.table.values[..., 0], "E_R")
-                                    for p in self.parts)}
+    def _cells(self) -> dict:
+        """``{"total" | "reflection": (offsets, coefficients (4, 4, n_cells + 1))}``: the
+        cell polynomials of every part's one-output table (``Table._cells``), part ``k``'s
+        from ``offsets[k]``, and a last cell of zeros."""
+        def single(part, values):
+            spec = replace(part.table.spec, outputs=("E",))
+            table = Table(spec, values[..., None], np.zeros(values.shape + (1,)))
+            strides, c = table._cells()
+            assert strides == (part.table.spec.axes[1].n - 1, 1)
+            return c
+        out = {}
+        for name, values in (("total", lambda p: p.table.values.sum(-1)),
+                             ("reflection", lambda p: p.table.values[..., 0])):
+            cells = [single(p, values(p)) for p in self.parts]
+            offsets = np.cumsum([0] + [c.shape[-1] for c in cells])
+            out[name] = (offsets, np.concatenate([*cells, np.zeros((4, 4, 1))], -1))
+        return out
 
     @property
     def n_nodes(self) -> int:
@@ -423,19 +457,22 @@ class DielectricSlice:
                                                                           cos_phi))
         n_outputs = tables[0].values.shape[-1]
         out = np.zeros(mu.shape + (n_outputs,))
+        which = self._which(on_light, mu, cos_phi)
+        for k, (part, table) in enumerate(zip(self.parts, tables, strict=True)):
+            here = np.flatnonzero(which == k)
+            if here.size:
+                coords = part.coordinates(mu[here], cos_phi[here])
+                out[here] = table.error(*coords) if error else table(*coords)
+        return out.reshape(shape + (n_outputs,))
+
+    def _which(self, on_light, mu, cos_phi) -> np.ndarray:
+        """The index in ``parts`` of the part that holds each direction, -1 for none."""
         which = np.full(mu.shape, -1)
         which[on_light] = 0
         dense = np.flatnonzero(~on_light)
         if dense.size:
             which[dense] = self._dense_part(mu[dense], cos_phi[dense])
-        order = np.argsort(which, kind="stable")
-        ends = np.searchsorted(which[order], np.arange(len(self.parts) + 1))
-        for k, (part, table) in enumerate(zip(self.parts, tables, strict=True)):
-            here = order[ends[k]:ends[k + 1]]
-            if here.size:
-                coords = part.coordinates(mu[here], cos_phi[here])
-                out[here] = table.error(*coords) if error else table(*coords)
-        return out.reshape(shape + (n_outputs,))
+        return which
 
     def _dense_part(self, mu, c) -> np.ndarray:
         """The index in ``parts`` of the dense side's part that holds each direction (the

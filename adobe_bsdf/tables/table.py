@@ -136,10 +136,12 @@ class Axis:
                              "the tables do not reach, use albedo method 'quadrature' or 'mc'")
         return x
 
-    def locate(self, x, table: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def locate(self, x, table: str | None = None,
+               checked: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Cell index ``i`` in [0, n - 2] and fraction in [0, 1] of physical values ``x``
-        (``check``-ed; ``table`` names the table in its message)."""
-        x = self.check(x, table)
+        (``check``-ed, unless ``checked`` is False for values known to lie in the range;
+        ``table`` names the table in its message)."""
+        x = self.check(x, table) if checked else np.asarray(x, dtype=np.float64)
         to = self._maps()[0]
         p0, p1 = to(self.lo), to(self.hi)
         t = (to(x) - p0) / (p1 - p0) * (self.n - 1)
