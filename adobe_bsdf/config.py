@@ -30,12 +30,15 @@ leaves glibc's own dynamic thresholds untouched at import (``set_options(retaine
 later restores glibc's initial values). The process's resident memory then does not shrink
 below what it used, up to that much more.
 
-``anisotropic_energy`` is read when a lobe is built and kept by it: "table" (default) looks
-up an anisotropic GGX dielectric's single-scattering energy in the isotropic tables at
-sqrt(alpha_x alpha_y); "exact" computes the lobe's own slice of it
-(``tables.dielectric_slices``: seconds per distinct (alpha_x, alpha_y, eta), then as fast),
-which makes the Kulla-Conty terms, a coat's albedo and the ASM's lobe integral exact for
-anisotropic roughness (docs/tables.md). Conductors are exact either way.
+``anisotropic_energy`` is read when a lobe is built and kept by it. It says where an
+anisotropic GGX dielectric's single-scattering energy comes from, which its Kulla-Conty
+terms, a coat's albedo and the ASM's lobe integral restore or divide by: "table" (default)
+reads the shipped grid of slices where the library has it (``tables.dielectric_grid``,
+milliseconds per distinct (alpha_x, alpha_y, eta)), else the isotropic tables at
+sqrt(alpha_x alpha_y); "exact" computes the lobe's own slice (``tables.dielectric_slices``:
+seconds per distinct interface, then as fast; the reference the grid is measured against);
+"isotropic" reads the isotropic tables at sqrt(alpha_x alpha_y), which miss by up to 0.37
+(``AnisotropicEnergyWarning``, once). Conductors are exact in every mode.
 """
 
 from __future__ import annotations
@@ -52,7 +55,7 @@ __all__ = ["Options", "get_options", "set_options", "options", "map_chunks",
            "ANISOTROPIC_ENERGY", "RETAINED_MEMORY"]
 
 #: values of ``Options.anisotropic_energy``
-ANISOTROPIC_ENERGY = ("table", "exact")
+ANISOTROPIC_ENERGY = ("table", "exact", "isotropic")
 
 #: elements per chunk: each NumPy call of a kernel then runs long enough (tens of
 #: microseconds) that the hand-over of the interpreter lock between threads costs little, and
@@ -97,7 +100,7 @@ class Options:
         Threads evaluating chunks of one call (1: the calling thread only).
     chunk_size : int >= 1
         Elements per chunk.
-    anisotropic_energy : {"table", "exact"}
+    anisotropic_energy : {"table", "exact", "isotropic"}
         How lobes built now find an anisotropic dielectric's energy (module docstring).
     retained_memory : int in [0, 2^31 - 1]
         Bytes of freed memory the allocator keeps for reuse (module docstring).

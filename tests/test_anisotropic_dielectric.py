@@ -279,7 +279,7 @@ def test_exact_mode_builds_lobes_without_tables():
     table = lobes.Dielectric(ETA, ALPHA_X, ALPHA_Y, model="beckmann")
     wo = _direction(np.array([0.8, 0.3]), np.array([0.1, 2.0]))
     wi = _direction(np.array([0.5, 0.9]), np.array([1.0, 4.0]), -1.0)
-    assert not exact.exact
+    assert not exact.slices
     np.testing.assert_array_equal(exact.eval(wo, wi), table.eval(wo, wi))
 
 
@@ -307,7 +307,7 @@ def test_slice_energy_groups_distinct_parameters():
 
 
 def test_anisotropic_energy_option_is_checked():
-    with pytest.raises(ValueError, match="anisotropic_energy = 'fast'.*'table', 'exact'"):
+    with pytest.raises(ValueError, match="anisotropic_energy = 'fast'.*'table', 'exact', 'isotropic'"):
         ab.config.set_options(anisotropic_energy="fast")
 
 

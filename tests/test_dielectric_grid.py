@@ -129,3 +129,44 @@ def test_interpolated_slice_off_the_grid_and_at_sqrt2():
     end = grid.interpolated_slice(values, 0.3, 0.3, grid.grid_points("below")[-1, 2])
     for a, b in zip(at.parts, end.parts, strict=True):
         np.testing.assert_array_equal(a.table.values, b.table.values)
+
+
+@pytest.fixture
+def synthetic_grid(monkeypatch):
+    """The library as if it shipped a grid whose every slice holds E_R = 0.125 and
+    E_T = 0.75 (exact in the rounding of ``encode``)."""
+    import adobe_bsdf.tables.dielectric_grid as module
+
+    values = {}
+    for half, axes in module.HALVES.items():
+        n = sum(int(np.prod(p.table.spec.shape[:-1]))
+                for p in _layout((0.3, 0.3, 1.2 if half == "below" else 2.0)))
+        v = np.empty(tuple(a.n for a in axes) + (n, 2))
+        v[..., 0], v[..., 1] = 0.125, 0.75
+        values[half] = v
+    module.grid_slice.cache_clear()
+    monkeypatch.setattr(module, "shipped", lambda: True)
+    monkeypatch.setattr(module, "load", lambda: values)
+    yield
+    module.grid_slice.cache_clear()
+
+
+def test_default_lobes_read_the_shipped_grid(synthetic_grid):
+    """Built with no option, an anisotropic rough dielectric reads its energy from the
+    grid: from either side its E_R + E_T is the grid's 0.875; under "exact" and
+    "isotropic" it does not."""
+    import adobe_bsdf as ab
+    from adobe_bsdf import lobes
+
+    wo = np.array([[0.3, 0.4, np.sqrt(0.75)], [0.6, 0.0, -0.8], [0.0, 0.99, 0.1411]])
+    wo /= np.linalg.norm(wo, axis=-1, keepdims=True)
+    for eta in (1.2, 1 / 1.45, 2.5):
+        lobe = lobes.Dielectric(eta, 0.4, 0.1)
+        assert lobe.slices == "grid"
+        np.testing.assert_allclose(lobe.albedo(wo, method="table")[..., 0], 0.875,
+                                   rtol=0, atol=1e-12)
+    with ab.config.options(anisotropic_energy="isotropic"):
+        assert lobes.Dielectric(1.45, 0.4, 0.1).slices == ""
+    with ab.config.options(anisotropic_energy="exact"):
+        assert lobes.Dielectric(1.45, 0.4, 0.1).slices == "exact"
+    assert lobes.Dielectric(1.45, 0.4, 0.4).slices == ""  # isotropic: the tables

@@ -14,7 +14,7 @@ from adobe_bsdf.lobes.energy_lookup import (
     MIN_TRANSMISSION_WIDTH,
     checked_ratio,
     dielectric_energy,
-    exact_anisotropic,
+    slice_source,
     grey,
     passes_through,
     table_alpha,
@@ -120,7 +120,7 @@ class Dielectric(Lobe):
         #: where the interface is a pass-through (``passes_through``)
         self.passes = passes_through(self.eta, microfacets)
         #: table albedo from the lobe's slice where anisotropic (``config`` anisotropic_energy)
-        self.exact = exact_anisotropic(microfacets)
+        self.slices = slice_source(microfacets)
 
     def __repr__(self) -> str:
         film = "" if self.film is None else f", film={self.film!r}"
@@ -308,7 +308,7 @@ class Dielectric(Lobe):
         or of the lobe's slice where anisotropic and built exact (1 where the interface is
         smooth or index-matched); with a film, plus its Delta (``film_energy``)."""
         E, error = map(grey, dielectric_energy(self.eta, self.distribution, wo, with_error,
-                                               self.exact))
+                                               self.slices))
         energy = self.film_energy()
         if energy is not None:
             light = (wo[..., 2] > 0.0) == (self.eta >= 1.0)

@@ -29,6 +29,7 @@ from adobe_bsdf.tables.anisotropic_energy import (
     similarity,
 )
 from adobe_bsdf.tables.catalog import anisotropic_average
+from adobe_bsdf.tables import dielectric_grid
 from adobe_bsdf.tables.dielectric_slices import dielectric_slice
 from adobe_bsdf.tables.energy import ggx_energy
 from adobe_bsdf.tables.table import Table
@@ -36,7 +37,7 @@ from adobe_bsdf.tables.table import Table
 __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "conductor_average",
            "is_anisotropic", "anisotropic_coordinates", "anisotropic_reflection",
            "anisotropic_reflection_average",
-           "dielectric_energy", "sides", "exact_anisotropic", "slice_energy", "slice_average",
+           "dielectric_energy", "sides", "slice_source", "slice_energy", "slice_average",
            "checked_ratio", "reflected_energy", "near_matched", "passes_through",
            "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU", "ISOTROPIC_FALLBACK_ERROR",
            "AnisotropicEnergyWarning"]
@@ -393,25 +394,45 @@ def _cos_phi(x_rough, w):
         along / pick(horizontal > 0.0, horizontal, 1.0), 1.0)), 1.0)
 
 
-def exact_anisotropic(distribution: GGX) -> bool:
-    """Whether a lobe over ``distribution`` built now reads an anisotropic dielectric's
-    energy from its own slice (``config`` option ``anisotropic_energy = "exact"``, and some
-    element anisotropic; a distribution other than GGX has no slices)."""
-    return (config.get_options().anisotropic_energy == "exact"
-            and isinstance(distribution, GGX) and bool(np.any(is_anisotropic(distribution))))
+def slice_source(distribution: GGX) -> str:
+    """Where a lobe over ``distribution`` built now reads an anisotropic dielectric's energy:
+    "grid" (the ``config`` option ``anisotropic_energy``'s default "table", once the grid
+    of slices is shipped: ``tables.dielectric_grid``), "exact" (the option "exact": the
+    lobe's own slice, computed), or "" (the isotropic tables at sqrt(alpha_x alpha_y): the
+    option "isotropic", or "table" without the grid; and where no element is anisotropic
+    or the distribution is not GGX)."""
+    mode = config.get_options().anisotropic_energy
+    if (mode == "isotropic" or not isinstance(distribution, GGX)
+            or not np.any(is_anisotropic(distribution))):
+        return ""
+    if mode == "table":
+        return "grid" if dielectric_grid.shipped() else ""
+    return "exact"
 
 
-def _slices(eta, distribution: GGX, shape):
+def _slice(alpha: float, ratio: float, eta: float, source: str):
+    """The slice of (``alpha``, ``ratio``, index ratio ``eta``) from ``source``: "grid"
+    (``dielectric_grid.grid_slice``, or where the index is off the grid, the computed
+    slice) or "exact" (``dielectric_slice``, computed once per process)."""
+    if source == "grid":
+        piece = dielectric_grid.grid_slice(alpha, ratio, eta)
+        if piece is not None:
+            return piece
+    return dielectric_slice(alpha, ratio, eta)
+
+
+def _slices(eta, distribution: GGX, shape, source: str):
     """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one slice per
-    distinct (alpha, ratio, index ratio) of the parameters, its mask ``shape``
+    distinct (alpha, ratio, index ratio) of the parameters from ``source`` (``_slice``), its
+    mask ``shape``
     (a broadcast view where the parameters are scalars)."""
     alpha, ratio = _alpha_ratio(distribution)
     index = checked_ratio(eta, "ggx_dielectric_anisotropic (the slices)")
     params = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
     if params == ():  # one interface (anisotropic: the caller asked for its slice)
         if is_anisotropic(distribution):
-            yield np.broadcast_to(True, shape), dielectric_slice(float(alpha), float(ratio),
-                                                                 float(index))
+            yield np.broadcast_to(True, shape), _slice(float(alpha), float(ratio),
+                                                       float(index), source)
         return
     aniso, alpha, ratio, index = (np.broadcast_to(a, params) for a in (
         is_anisotropic(distribution), alpha, ratio, index))
@@ -421,14 +442,15 @@ def _slices(eta, distribution: GGX, shape):
     for k, (a, r, e) in enumerate(unique):
         mask = np.zeros(params, dtype=bool)
         mask[tuple(where[inverse.ravel() == k].T)] = True
-        yield np.broadcast_to(mask, shape), dielectric_slice(a, r, e)
+        yield np.broadcast_to(mask, shape), _slice(a, r, e, source)
 
 
 def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
-                 channel: str = "total"):
+                 channel: str = "total", source: str = "exact"):
     """``(E, error)``, each ``(...)``: E_R + E_T (``channel`` "total") or E_R ("reflection")
-    of the anisotropic elements' slices (``tables.dielectric_slices``) seen from ``wo``'s
-    side, 0 elsewhere and in the tangent plane; error None unless ``with_error``."""
+    of the anisotropic elements' slices (``tables.dielectric_slices``, from ``source``:
+    ``_slice``) seen from ``wo``'s side, 0 elsewhere and in the tangent plane; error None
+    unless ``with_error``."""
     cos_phi = _cos_phi(distribution.alpha_x >= distribution.alpha_y, wo)
     mu = np.minimum(np.abs(wo[..., 2]), 1.0)
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
@@ -440,7 +462,7 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     def errors(piece, *args):
         e = piece.error(*args)
         return e.sum(-1) if channel == "total" else e[..., 0]
-    for mask, piece in _slices(eta, distribution, shape):
+    for mask, piece in _slices(eta, distribution, shape, source):
         if mask.strides == (0,) * mask.ndim:  # every element: one scalar interface
             E[...] = piece.channel(channel, on_light, mu, cos_phi)
             if with_error:
@@ -453,12 +475,12 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     return pick(grazing, 0.0, E), None if error is None else pick(grazing, 0.0, error)
 
 
-def slice_average(eta, distribution: GGX):
+def slice_average(eta, distribution: GGX, source: str = "exact"):
     """``(light, dense)``: each ``(..., 2)``, the (E_R, E_T) averages of the anisotropic
     elements' slices seen from the light and the dense side (0 elsewhere)."""
     shape = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
     light, dense = np.zeros(shape + (2,)), np.zeros(shape + (2,))
-    for mask, piece in _slices(eta, distribution, shape):
+    for mask, piece in _slices(eta, distribution, shape, source):
         light[mask], dense[mask] = piece.average_outside, piece.average_inside
     return light, dense
 
@@ -498,29 +520,30 @@ def checked_ratio(eta, table: str | None = None, dispersion=None):
 
 
 def dielectric_energy(eta, distribution: GGX, wo, with_error: bool = False,
-                      exact: bool = False):
+                      slices: str = ""):
     """``(E, error)``: E_R + E_T of a rough interface seen from ``wo`` (either side), 1 where
     the interface is smooth or index-matched, and the carried node error (None unless
     ``with_error``). Each side's table is looked up only for the directions on that side
     (where the parameters are scalars); ``near_matched`` directions are integrated.
-    ``exact``: anisotropic elements read their slices (``slice_energy``) instead."""
+    ``slices`` (``slice_source``): anisotropic elements read their slices from there
+    (``slice_energy``) instead."""
     names = "ggx_dielectric_outside and ggx_dielectric_inside"
     alpha = table_alpha(distribution, names)
     ratio = checked_ratio(eta, names)
     matched = (distribution.smooth | (eta == 1.0)) & (wo[..., 2] != 0.0)
-    if exact and np.all(is_anisotropic(distribution)):  # every element reads its slice
-        total, error = slice_energy(eta, distribution, wo, with_error)
+    if slices and np.all(is_anisotropic(distribution)):  # every element reads its slice
+        total, error = slice_energy(eta, distribution, wo, with_error, source=slices)
     else:
-        total, error = _tabulated(eta, distribution, wo, alpha, ratio, with_error, exact)
+        total, error = _tabulated(eta, distribution, wo, alpha, ratio, with_error, slices)
     # in the tangent plane (cos = 0) nothing is reflected or transmitted (docs/conventions.md)
     grazing = wo[..., 2] == 0.0
     total = pick(matched, 1.0, pick(grazing, 0.0, total))
     return total, None if error is None else pick(matched | grazing, 0.0, error)
 
 
-def _tabulated(eta, distribution: GGX, wo, alpha, ratio, with_error: bool, exact: bool):
+def _tabulated(eta, distribution: GGX, wo, alpha, ratio, with_error: bool, slices: str):
     """``dielectric_energy`` before its smooth, index-matched and grazing directions: the
-    tables, the integrated ``near_matched`` directions, and with ``exact`` the slices of the
+    tables, the integrated ``near_matched`` directions, and with ``slices`` the slices of the
     anisotropic elements."""
     mu = np.abs(wo[..., 2])
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
@@ -540,8 +563,8 @@ def _tabulated(eta, distribution: GGX, wo, alpha, ratio, with_error: bool, exact
             E, err = lookup(name, mu, with_error, alpha=alpha, eta=ratio)
             total = pick(here, E, total)
             error = _where(here, err, error)
-    aniso = np.broadcast_to(is_anisotropic(distribution), shape) if exact else np.False_
-    if not (exact or _FALLBACK_WARNED.is_set()) and np.any(
+    aniso = np.broadcast_to(is_anisotropic(distribution), shape) if slices else np.False_
+    if not (slices or _FALLBACK_WARNED.is_set()) and np.any(
             is_anisotropic(distribution) & ~distribution.smooth
             & (eta != 1.0) & ~passes_through(eta, distribution)):
         _warn_isotropic_fallback()
@@ -555,8 +578,8 @@ def _tabulated(eta, distribution: GGX, wo, alpha, ratio, with_error: bool, exact
         total[near] = E_R + E_T
         if with_error:
             error[near] = err_R + err_T
-    if exact:
-        E_s, error_s = slice_energy(eta, distribution, wo, with_error)
+    if slices:
+        E_s, error_s = slice_energy(eta, distribution, wo, with_error, source=slices)
         total = pick(aniso, E_s, total)
         error = None if error is None else pick(aniso, error_s, error)
     return total, error

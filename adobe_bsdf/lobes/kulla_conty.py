@@ -48,7 +48,7 @@ from adobe_bsdf.lobes.energy_lookup import (
     conductor_average,
     conductor_energy,
     dielectric_energy,
-    exact_anisotropic,
+    slice_source,
     grey,
     is_anisotropic,
     lookup,
@@ -201,10 +201,10 @@ class SeparableDielectricMS(Separable):
         avg_L = tables.get("ggx_dielectric_outside_avg")(alpha, ratio)
         avg_D = tables.get("ggx_dielectric_inside_avg")(alpha, ratio)
         #: whether anisotropic elements read their slices (``config`` anisotropic_energy)
-        self.exact = exact_anisotropic(self.distribution)
-        if self.exact:
+        self.slices = slice_source(self.distribution)
+        if self.slices:
             aniso = is_anisotropic(self.distribution)[..., None]
-            slice_L, slice_D = slice_average(self.eta, self.distribution)
+            slice_L, slice_D = slice_average(self.eta, self.distribution, self.slices)
             avg_L, avg_D = pick(aniso, slice_L, avg_L), pick(aniso, slice_D, avg_D)
         E_avg_L, E_avg_D = avg_L.sum(-1), avg_D.sum(-1)
         if film is not None:
@@ -256,7 +256,7 @@ class SeparableDielectricMS(Separable):
         (the three channels' terms share one lookup per call: ``_memo``)."""
         if self._film is None or with_error:
             E, error = dielectric_energy(self.eta, self.distribution, w, with_error,
-                                         self.exact)
+                                         self.slices)
             if self._film is not None:
                 energy, c = self._film
                 E = E + energy(np.abs(w[..., 2]), self._on_light(w))[..., c]
@@ -264,7 +264,7 @@ class SeparableDielectricMS(Separable):
         energy, c = self._film
 
         def filmed(w):
-            E = dielectric_energy(self.eta, self.distribution, w, exact=self.exact)[0]
+            E = dielectric_energy(self.eta, self.distribution, w, slices=self.slices)[0]
             return E[..., None] + energy(np.abs(w[..., 2]), self._on_light(w))
         return _memo.once(energy, "E", w, filmed)[..., c], None
 

@@ -14,7 +14,7 @@ from adobe_bsdf.fresnel import ExactConductor, ExactDielectric, Fresnel, Fresnel
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
     conductor_energy,
-    exact_anisotropic,
+    slice_source,
     grey,
     is_anisotropic,
     reflected_energy,
@@ -847,7 +847,7 @@ class DielectricReflection(MicrofacetReflection):
         super()._init(microfacets, fresnel)
         self.eta = fresnel.eta
         #: E_R from the lobe's slice where anisotropic (``config`` anisotropic_energy)
-        self.exact = exact_anisotropic(self.distribution)
+        self.slices = slice_source(self.distribution)
 
     def __repr__(self) -> str:
         return f"DielectricReflection(eta={self.eta!r}, {self.distribution!r})"
@@ -860,7 +860,7 @@ class DielectricReflection(MicrofacetReflection):
         (``top_albedo.TopAlbedoGrid``; textured parameters: the rule at every distinct
         ``wo``), or, built exact, the slice's."""
         d = self.distribution
-        if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.exact:
+        if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.slices:
             return super()._top_albedo(wo)
         if self._param_shape() != ():
             return quadrature.sampled_albedo(self, wo)
@@ -871,7 +871,7 @@ class DielectricReflection(MicrofacetReflection):
         mu = np.clip(wo[..., 2], 0.0, 1.0)  # 1 + an ulp by rounding is 1
         light = sides(self.eta)[0]
         # exact anisotropic elements read their slices below: none integrates here
-        aniso = is_anisotropic(self.distribution) if self.exact else np.False_
+        aniso = is_anisotropic(self.distribution) if self.slices else np.False_
         sides_seen = (("ggx_dielectric_outside", ratio, light),
                       ("ggx_dielectric_inside", 1.0 / ratio, ~light))
         if np.ndim(light) == 0:  # one index: only its side's table
@@ -887,9 +887,9 @@ class DielectricReflection(MicrofacetReflection):
         up = wo[..., 2] > 0.0
         E = grey(pick(up, E, 0.0))
         error = grey(None if error is None else pick(up, error, 0.0))
-        if self.exact:
+        if self.slices:
             E_s, error_s = slice_energy(self.eta, self.distribution, wo, with_error,
-                                         "reflection")
+                                         "reflection", self.slices)
             aniso = np.asarray(aniso)[..., None]
             E = pick(aniso, grey(pick(up, E_s, 0.0)), E)
             if with_error:

@@ -8,6 +8,10 @@ Public API
                            them (``(n_nodes, 2)`` E_R, E_T, float32).
 ``bake(folder, executor)`` every grid point's slice, resumably: one file per finished slice
                            in ``<folder>/<NAME>.partial``, then ``<folder>/<NAME>.npz``.
+``shipped()`` / ``load()``  whether the library ships the baked grid / its values (decoded
+                           once per process).
+``grid_slice(alpha, ratio, eta)``
+                           ``interpolated_slice`` of the shipped grid (cached).
 ``interpolated_slice(grid, alpha, ratio, eta)``
                            the ``DielectricSlice`` of any interface on the grid: its node
                            values interpolated across the grid points (cubic convolution
@@ -35,7 +39,7 @@ Axes, each uniform in q = ln(x + offset) at a step of at most ``STEP``:
 
 from __future__ import annotations
 
-import time
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -50,8 +54,9 @@ from adobe_bsdf.tables.dielectric_slices import (
 )
 from adobe_bsdf.tables.table import Axis
 
-__all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "interpolated_slice",
-           "ETA_MIN", "ETA_MAX", "ALPHA_MAX"]
+__all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "decode",
+           "shipped", "load", "grid_slice", "interpolated_slice", "ETA_MIN", "ETA_MAX",
+           "ALPHA_MAX"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -181,3 +186,26 @@ def interpolated_slice(grid: dict, alpha: float, ratio: float,
     eta_grid = 1.0 + np.exp(q_eta) - ETA_OFFSET
     parts = filled(layout(alpha, ratio, eta_grid), values.astype(np.float64))
     return assembled(alpha, ratio, eta, parts)
+
+
+def _path() -> Path:
+    from adobe_bsdf.tables.store import data_dir
+    return data_dir() / f"{NAME}.npz"
+
+
+def shipped() -> bool:
+    """Whether the library ships the baked grid (``tables/ggx_dielectric_anisotropic.npz``)."""
+    return _path().exists()
+
+
+@functools.lru_cache(maxsize=1)
+def load() -> dict:
+    """The shipped grid's values (``decode``), read once per process."""
+    with np.load(_path()) as arrays:
+        return decode(arrays)
+
+
+@functools.lru_cache(maxsize=256)
+def grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
+    """``interpolated_slice`` of the shipped grid, kept for the 256 interfaces last read."""
+    return interpolated_slice(load(), alpha, ratio, eta)

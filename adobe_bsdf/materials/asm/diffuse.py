@@ -13,7 +13,7 @@ from adobe_bsdf.fresnel import ExactDielectric
 from adobe_bsdf.lobes.energy_lookup import (
     anisotropic_reflection,
     anisotropic_reflection_average,
-    exact_anisotropic,
+    slice_source,
     grey,
     is_anisotropic,
     reflected_energy,
@@ -43,19 +43,19 @@ def _anisotropic(microfacets):
     return is_anisotropic(microfacets)
 
 
-def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, exact=False):
+def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, slices=""):
     """``(L, error)``: L(w) of [Kutz2021, §1.1 eq. 1] (0 below the surface) and its node error
     (None unless ``with_error``): "asm_diffuse_L" at ``roughness``, plus, where the
     ``microfacets`` are anisotropic, what they reflect beyond the isotropic lobe at
-    alpha = roughness^2 (``anisotropic_reflection``, the Fresnel moments), or, ``exact``,
-    E_R of their own slice (``slice_energy``)."""
+    alpha = roughness^2 (``anisotropic_reflection``, the Fresnel moments), or, with
+    ``slices`` (``slice_source``), E_R of their slice (``slice_energy``)."""
     up = w[..., 2] > 0.0
     L, error = reflected_energy("asm_diffuse_L", np.maximum(w[..., 2], 0.0),
                                 roughness * roughness, ior, {"roughness": roughness, "ior": ior},
                                 ior, with_error)
     aniso = _anisotropic(microfacets)
-    if exact:
-        E, error_s = slice_energy(ior, microfacets, w, with_error, "reflection")
+    if slices:
+        E, error_s = slice_energy(ior, microfacets, w, with_error, "reflection", slices)
         L = pick(aniso, E, L)
         error = pick(aniso, error_s, error) if with_error else None
     elif np.any(aniso):
@@ -71,13 +71,13 @@ def _reference(roughness):
     return GGX._new(roughness * roughness, roughness * roughness)
 
 
-def _lobe_average(roughness, ior, microfacets, exact=False):
+def _lobe_average(roughness, ior, microfacets, slices=""):
     """T = (1/pi) int L cos: "asm_diffuse_T", plus the anisotropic part's exact average (or,
-    ``exact``, the slice's average of E_R)."""
+    with ``slices``, the slice's average of E_R)."""
     T = tables.get("asm_diffuse_T")(roughness, ior)[..., 0]
     aniso = _anisotropic(microfacets)
-    if exact:
-        T = pick(aniso, slice_average(ior, microfacets)[0][..., 0], T)
+    if slices:
+        T = pick(aniso, slice_average(ior, microfacets, slices)[0][..., 0], T)
     elif np.any(aniso):
         T = pick(aniso, T + anisotropic_reflection_average(
             microfacets, _reference(roughness), ior), T)
@@ -108,7 +108,7 @@ class ASMSpecular(MicrofacetReflection):
         super()._init(GGX._new(*alphas(roughness, anisotropy_level)), ExactDielectric._new(ior))
         self._table_r = effective_roughness(roughness, anisotropy_level)
         #: L from the lobe's slice where anisotropic (``config`` anisotropic_energy)
-        self.exact = exact_anisotropic(self.distribution)
+        self.slices = slice_source(self.distribution)
 
     def __repr__(self) -> str:
         return (f"ASMSpecular(roughness={self.roughness}, ior={self.ior}, "
@@ -116,7 +116,7 @@ class ASMSpecular(MicrofacetReflection):
 
     def _albedo_table(self, wo, with_error=True):
         L, error = _lobe_integral(self._table_r, self.ior, wo, with_error, self.distribution,
-                                  self.exact)
+                                  self.slices)
         return grey(L), grey(error)
 
 
@@ -158,8 +158,8 @@ class ASMDiffuse(Separable):
         self._table_r = effective_roughness(roughness, a)
         self.microfacets = GGX._new(*alphas(roughness, a)) if np.any(a > 0.0) else None
         #: L from the specular's slice where anisotropic (``config`` anisotropic_energy)
-        self.exact = self.microfacets is not None and exact_anisotropic(self.microfacets)
-        T = _lobe_average(self._table_r, self.ior, self.microfacets, self.exact)
+        self.slices = "" if self.microfacets is None else slice_source(self.microfacets)
+        T = _lobe_average(self._table_r, self.ior, self.microfacets, self.slices)
         self._scale = self.reflectance / (np.pi * (1.0 - T))[..., None]
 
     def __repr__(self) -> str:
@@ -172,7 +172,7 @@ class ASMDiffuse(Separable):
 
     def _L(self, w, with_error=False):
         return _lobe_integral(self._table_r, self.ior, w, with_error, self.microfacets,
-                              self.exact)
+                              self.slices)
 
     def _X(self, w):
         """1 - L(w), at least 0: the interpolated L can overshoot 1 by ~1e-8 at small
