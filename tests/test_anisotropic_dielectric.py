@@ -307,7 +307,8 @@ def test_slice_energy_groups_distinct_parameters():
 
 
 def test_anisotropic_energy_option_is_checked():
-    with pytest.raises(ValueError, match="anisotropic_energy = 'fast'.*'table', 'exact', 'isotropic'"):
+    with pytest.raises(ValueError,
+                       match="anisotropic_energy = 'fast'.*'table', 'exact', 'isotropic'"):
         ab.config.set_options(anisotropic_energy="fast")
 
 

@@ -170,3 +170,29 @@ def test_default_lobes_read_the_shipped_grid(synthetic_grid):
     with ab.config.options(anisotropic_energy="exact"):
         assert lobes.Dielectric(1.45, 0.4, 0.1).slices == "exact"
     assert lobes.Dielectric(1.45, 0.4, 0.4).slices == ""  # isotropic: the tables
+
+
+def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
+    """``benchmarks.anisotropic_grid --smoke --grid FILE`` compares a grid file with the
+    exact slices: a grid of constant E_R and E_T misses by what the exact slices differ from
+    them, which the page reports."""
+    from benchmarks import anisotropic_grid
+
+    values = {}
+    for half, axes in grid.HALVES.items():
+        n = sum(int(np.prod(p.table.spec.shape[:-1]))
+                for p in _layout((0.3, 0.3, 1.2 if half == "below" else 2.0)))
+        v = np.empty(tuple(a.n for a in axes) + (n, 2))
+        v[..., 0], v[..., 1] = 8192 / grid.QUANTUM, 49151 / grid.QUANTUM  # stored exactly
+        values[half] = v
+    path = tmp_path / "grid.npz"
+    np.savez_compressed(path, **grid.encode(values))
+    result = anisotropic_grid.measure(smoke=True, path=path)
+    (alpha, ratio, eta), errors = result["rows"][0]
+    piece = dielectric_slice(alpha, ratio, eta)
+    mu, cos_phi = anisotropic_grid._directions(np.random.default_rng(anisotropic_grid.SEED),
+                                              anisotropic_grid.DIRECTIONS)
+    want = (8192 + 49151) / grid.QUANTUM - piece(True, mu, cos_phi).sum(-1)
+    np.testing.assert_allclose(errors["light"], want, rtol=0, atol=1e-12)
+    page = anisotropic_grid.markdown(result, 1.0)
+    assert "| light (E_R + E_T unless named) |" in page and "grid.npz" in page

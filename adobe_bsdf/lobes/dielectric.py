@@ -14,9 +14,9 @@ from adobe_bsdf.lobes.energy_lookup import (
     MIN_TRANSMISSION_WIDTH,
     checked_ratio,
     dielectric_energy,
-    slice_source,
     grey,
     passes_through,
+    slice_source,
     table_alpha,
 )
 from adobe_bsdf.lobes.film_energy import FilmEnergy

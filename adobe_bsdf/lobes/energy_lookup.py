@@ -22,6 +22,7 @@ from adobe_bsdf import config, tables
 from adobe_bsdf._channels import pick
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.microfacet import GGX
+from adobe_bsdf.tables import dielectric_grid
 from adobe_bsdf.tables.anisotropic_energy import (
     blended,
     fresnel_coefficients,
@@ -29,7 +30,6 @@ from adobe_bsdf.tables.anisotropic_energy import (
     similarity,
 )
 from adobe_bsdf.tables.catalog import anisotropic_average
-from adobe_bsdf.tables import dielectric_grid
 from adobe_bsdf.tables.dielectric_slices import dielectric_slice
 from adobe_bsdf.tables.energy import ggx_energy
 from adobe_bsdf.tables.table import Table

@@ -48,12 +48,12 @@ from adobe_bsdf.lobes.energy_lookup import (
     conductor_average,
     conductor_energy,
     dielectric_energy,
-    slice_source,
     grey,
     is_anisotropic,
     lookup,
     sides,
     slice_average,
+    slice_source,
     table_alpha,
 )
 from adobe_bsdf.lobes.reflection import Conductor, _fresnel_model

@@ -14,12 +14,12 @@ from adobe_bsdf.fresnel import ExactConductor, ExactDielectric, Fresnel, Fresnel
 from adobe_bsdf.lobes.energy_lookup import (
     checked_ratio,
     conductor_energy,
-    slice_source,
     grey,
     is_anisotropic,
     reflected_energy,
     sides,
     slice_energy,
+    slice_source,
     table_alpha,
 )
 from adobe_bsdf.lobes.top_albedo import TopAlbedoGrid

@@ -220,10 +220,9 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler
     in_place : bool
         Write over the shipped tables that the library reads (``store.data_dir()``).
     """
+    from adobe_bsdf.tables import dielectric_grid
     from adobe_bsdf.tables.store import data_dir, spec
     from adobe_bsdf.tables.table import TableError, load, save
-
-    from adobe_bsdf.tables import dielectric_grid
 
     grid = dielectric_grid.NAME in names
     names = [n for n in names if n != dielectric_grid.NAME]

@@ -13,12 +13,12 @@ from adobe_bsdf.fresnel import ExactDielectric
 from adobe_bsdf.lobes.energy_lookup import (
     anisotropic_reflection,
     anisotropic_reflection_average,
-    slice_source,
     grey,
     is_anisotropic,
     reflected_energy,
     slice_average,
     slice_energy,
+    slice_source,
 )
 from adobe_bsdf.lobes.reflection import MicrofacetReflection
 from adobe_bsdf.lobes.separable import Separable

@@ -1,0 +1,198 @@
+"""The shipped grid of anisotropic dielectric slices against the exact mode, and what it
+costs; writes ``docs/anisotropic_grid_measured.md``.
+
+    python -m benchmarks.anisotropic_grid [--smoke] [--out DIR] [--grid FILE]
+
+Accuracy. Held-out interfaces (seed 20261207): alpha_max log-uniform in [0.005, 2], ratio
+uniform in [0, 1], the index ratio eta with eta - 1 log-uniform in [0.01, 2], plus fixed
+extremes (the grid's corners, eta either side of sqrt 2, the one-dimensional surface). At
+each, the slice interpolated from the grid (``tables.dielectric_grid.interpolated_slice``)
+against the slice the exact mode computes (``tables.dielectric_slices.dielectric_slice``:
+the reference), at random directions on both sides (mu log-uniform in [1e-3, 1], any
+azimuth): E_R + E_T and E_R, max and RMS, and the hemispherical averages that the
+Kulla-Conty terms divide by. ``--grid FILE`` measures a baked file (``bake
+ggx_dielectric_anisotropic --out DIR``) instead of the shipped one.
+
+Cost (one thread, the same batch, alternating rounds, the best of each): ``eval`` and
+``sample`` of an anisotropic ``DielectricMS`` and of white translucent and opaque
+anisotropic ASM dielectrics against their isotropic counterparts; the first use in a fresh
+process (the first anisotropic lobe built and evaluated, the grid loaded); the file's size.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from adobe_bsdf.tables import dielectric_grid
+from adobe_bsdf.tables.dielectric_slices import dielectric_slice
+from benchmarks import generated_by, machine, write_page
+
+NAME = "anisotropic_grid_measured.md"
+SEED = 20261207
+INTERFACES, SMOKE_INTERFACES = 24, 1
+DIRECTIONS = 4000
+#: (alpha, ratio, eta) always measured
+EXTREMES = [(2.0, 0.0, 3.0), (2.0, 1.0, 1.011), (0.005, 0.0, 1.011), (1.2, 0.02, 1.4142),
+            (1.2, 0.02, 1.4143), (0.6, 0.0, 1.9), (0.02, 0.5, 2.99)]
+PAIRS, ROUNDS = 20000, 7
+
+
+def interfaces(n: int, seed: int = SEED) -> list[tuple[float, float, float]]:
+    rng = np.random.default_rng(seed)
+    alpha = np.exp(rng.uniform(np.log(0.005), np.log(2.0), n))
+    ratio = rng.uniform(0.0, 1.0, n)
+    eta = 1.0 + np.exp(rng.uniform(np.log(0.01), np.log(2.0), n))
+    return [(float(a), float(r), float(e)) for a, r, e in zip(alpha, ratio, eta, strict=True)]
+
+
+def _directions(rng, n):
+    return np.exp(rng.uniform(np.log(1e-3), 0.0, n)), rng.uniform(0.0, 1.0, n)
+
+
+def compare(grid: dict, interface, seed: int = SEED) -> dict:
+    """Errors of the grid's slice at ``interface`` against the exact one."""
+    exact = dielectric_slice(*interface)
+    piece = dielectric_grid.interpolated_slice(grid, *interface)
+    rng = np.random.default_rng(seed)
+    out = {}
+    for side, on_light in (("light", True), ("dense", False)):
+        mu, cos_phi = _directions(rng, DIRECTIONS)
+        d = piece(on_light, mu, cos_phi) - exact(on_light, mu, cos_phi)
+        out[side] = d.sum(-1)
+        out[side + " E_R"] = d[..., 0]
+        out[side + " average"] = (piece.average(on_light) - exact.average(on_light)).sum()
+    return out
+
+
+def _lobes():
+    """(name, anisotropic, isotropic) factories of the cost rows."""
+    from adobe_bsdf.lobes import DielectricMS
+    from adobe_bsdf.materials import AdobeStandardMaterial
+
+    def asm(translucency, level):
+        return lambda: AdobeStandardMaterial(base_color=1.0, translucency=translucency,
+                                             ior=1.45, roughness=0.5, anisotropy_level=level)
+    return [("DielectricMS(1.5, 0.3, 0.06)", lambda: DielectricMS(1.5, 0.3, 0.06),
+             lambda: DielectricMS(1.5, 0.3, 0.3)),
+            ("ASM translucent, roughness 0.5, anisotropy 0.8", asm(1.0, 0.8), asm(1.0, 0.0)),
+            ("ASM opaque dielectric, roughness 0.5, anisotropy 0.8", asm(0.0, 0.8),
+             asm(0.0, 0.0))]
+
+
+def costs(pairs: int = PAIRS, rounds: int = ROUNDS) -> list:
+    """``[(name, eval ratio, sample ratio)]``: best-of-``rounds`` times, one thread."""
+    import adobe_bsdf as ab
+
+    rng = np.random.default_rng(SEED)
+    v = rng.normal(size=(2, pairs, 3))
+    wo, wi = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    u = rng.uniform(size=(pairs, 3))
+    out = []
+    with ab.config.options(threads=1):
+        for name, aniso, iso in _lobes():
+            lobes = {"aniso": aniso(), "iso": iso()}
+            best = {}
+            for _ in range(rounds):
+                for key, lobe in lobes.items():
+                    for what, call, args in (("eval", lobe.eval, (wo, wi)),
+                                             ("sample", lobe.sample, (wo, u))):
+                        start = time.perf_counter()
+                        call(*args)
+                        t = time.perf_counter() - start
+                        best[key, what] = min(best.get((key, what), t), t)
+            out.append((name, best["aniso", "eval"] / best["iso", "eval"],
+                        best["aniso", "sample"] / best["iso", "sample"]))
+    return out
+
+
+_FIRST_USE = """
+import time, numpy as np
+import adobe_bsdf
+from adobe_bsdf.lobes import DielectricMS
+start = time.perf_counter()
+lobe = DielectricMS(1.5, 0.3, 0.06)
+lobe.eval(np.array([0.0, 0.6, 0.8]), np.array([0.0, -0.6, 0.8]))
+print(time.perf_counter() - start)
+"""
+
+
+def first_use() -> float:
+    """Seconds from a fresh process's first anisotropic lobe to its first ``eval``."""
+    run = subprocess.run([sys.executable, "-c", _FIRST_USE], capture_output=True, text=True,
+                         check=True)
+    return float(run.stdout.split()[-1])
+
+
+def measure(smoke: bool = False, path: Path | None = None) -> dict:
+    path = Path(path) if path is not None else dielectric_grid._path()
+    with np.load(path) as arrays:
+        grid = dielectric_grid.decode(arrays)
+    cases = interfaces(SMOKE_INTERFACES if smoke else INTERFACES)
+    extremes = EXTREMES[:1] if smoke else EXTREMES
+    rows = [(c, compare(grid, c)) for c in cases + extremes]
+    result = {"rows": rows, "n_random": len(cases), "bytes": path.stat().st_size,
+              "path": path.name}
+    if not smoke:
+        result["costs"] = costs()
+        result["first_use"] = first_use()
+    return result
+
+
+def _stats(values) -> tuple[float, float]:
+    v = np.abs(np.concatenate([np.atleast_1d(x) for x in values]))
+    return float(v.max()), float(np.sqrt(np.mean(v * v)))
+
+
+def markdown(result: dict, seconds: float) -> str:
+    rows = result["rows"]
+    out = [generated_by("benchmarks.anisotropic_grid", seconds, "energy_models.md"), "",
+           "# The grid of anisotropic dielectric slices, measured", "",
+           f"{result['n_random']} random held-out interfaces and {len(rows) - result['n_random']}"
+           f" fixed extremes, {DIRECTIONS} random directions per side each; the grid's slice "
+           "against the exact mode's. Machine: "
+           f"{machine.cpu_model()}, {machine.cores()} cores.", "",
+           "| quantity | max | RMS |", "|---|---|---|"]
+    for key in ("light", "dense", "light E_R", "dense E_R", "light average",
+                "dense average"):
+        worst, rms = _stats([r[key] for _, r in rows])
+        out.append(f"| {key} (E_R + E_T unless named) | {worst:.1e} | {rms:.1e} |")
+    out += ["", "| interface (alpha, ratio, eta) | light | dense | light E_R | dense E_R |",
+            "|---|---|---|---|---|"]
+    for c, r in rows:
+        out.append(f"| ({c[0]:.4g}, {c[1]:.3g}, {c[2]:.5g}) | "
+                   + " | ".join(f"{np.abs(r[k]).max():.1e}"
+                                for k in ("light", "dense", "light E_R", "dense E_R")) + " |")
+    out += ["", f"The grid's file {result['path']}: {result['bytes'] / 2**20:.2f} MB."]
+    if "costs" in result:
+        out += ["", "## Cost", "", "| lobe | eval / isotropic | sample / isotropic |",
+                "|---|---|---|"]
+        for name, e, s in result["costs"]:
+            out.append(f"| {name} | {e:.2f} | {s:.2f} |")
+        out += ["", f"First use in a fresh process (the grid loaded, the lobe built and "
+                f"evaluated): {result['first_use']:.2f} s."]
+    return "\n".join(out) + "\n"
+
+
+def run(out: Path | None = None, smoke: bool = False, grid: Path | None = None) -> Path:
+    return write_page(out, NAME, lambda: (measure(smoke, grid),), markdown)
+
+
+def main(argv=None) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes (for the tests)")
+    parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
+    parser.add_argument("--grid", type=Path, help="a baked grid file instead of the shipped")
+    args = parser.parse_args(argv)
+    print(run(args.out, args.smoke, args.grid))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
