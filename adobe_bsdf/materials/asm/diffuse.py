@@ -50,10 +50,15 @@ def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, slices
     alpha = roughness^2 (``anisotropic_reflection``, the Fresnel moments), or, with
     ``slices`` (``slice_source``), E_R of their slice (``slice_energy``)."""
     up = w[..., 2] > 0.0
+    aniso = _anisotropic(microfacets)
+    if slices and np.all(aniso):  # every element reads its slice
+        if microfacets.param_shape == () and np.ndim(ior) == 0 and w.ndim > 1:
+            return _upper(ior, microfacets, w, up, with_error, slices)
+        L, error = slice_energy(ior, microfacets, w, with_error, "reflection", slices)
+        return pick(up, L, 0.0), None if error is None else pick(up, error, 0.0)
     L, error = reflected_energy("asm_diffuse_L", np.maximum(w[..., 2], 0.0),
                                 roughness * roughness, ior, {"roughness": roughness, "ior": ior},
                                 ior, with_error)
-    aniso = _anisotropic(microfacets)
     if slices:
         E, error_s = slice_energy(ior, microfacets, w, with_error, "reflection", slices)
         L = pick(aniso, E, L)
@@ -64,6 +69,19 @@ def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, slices
         L = pick(aniso, np.clip(L + dL, 0.0, 1.0), L)
         error = pick(aniso, error + error_d, error) if with_error else None
     return pick(up, L, 0.0), None if error is None else pick(up, error, 0.0)
+
+
+def _upper(ior, microfacets, w, up, with_error, slices):
+    """``_lobe_integral`` of one anisotropic interface read from its slice at the directions
+    above the surface only (0 below)."""
+    index = np.nonzero(up)
+    L = np.zeros(up.shape)
+    error = np.zeros(up.shape) if with_error else None
+    E, error_s = slice_energy(ior, microfacets, w[index], with_error, "reflection", slices)
+    L[index] = E
+    if with_error:
+        error[index] = error_s
+    return L, error
 
 
 def _reference(roughness):
