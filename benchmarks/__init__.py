@@ -30,15 +30,18 @@ def write_page(out: Path | None, name: str, compute, markdown) -> Path:
     return path
 
 
-def report_main(run, description: str, argv=None) -> int:
-    """The command line of a page-writing script: ``--smoke`` (tiny sizes, for the tests) and
-    ``--out DIR`` (write into DIR instead of docs/); calls ``run(out, smoke)`` and prints the
+def report_main(run, description: str, argv=None, options=()) -> int:
+    """The command line of a page-writing script: ``--smoke`` (tiny sizes, for the tests),
+    ``--out DIR`` (write into DIR instead of docs/) and the script's own ``options``
+    (``(flag, argparse keywords)`` pairs); calls ``run(out, smoke, **own)`` and prints the
     page's path."""
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--smoke", action="store_true", help="tiny sizes (for the tests)")
     parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
-    args = parser.parse_args(argv)
-    print(run(args.out, args.smoke))
+    for flag, keywords in options:
+        parser.add_argument(flag, **keywords)
+    args = vars(parser.parse_args(argv))
+    print(run(args.pop("out"), args.pop("smoke"), **args))
     return 0
 
 

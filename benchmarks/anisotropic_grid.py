@@ -30,7 +30,7 @@ import numpy as np
 
 from adobe_bsdf.tables import dielectric_grid
 from adobe_bsdf.tables.dielectric_slices import dielectric_slice
-from benchmarks import generated_by, machine, write_page
+from benchmarks import generated_by, machine, report_main, write_page
 
 NAME = "anisotropic_grid_measured.md"
 SEED = 20261207
@@ -183,15 +183,8 @@ def run(out: Path | None = None, smoke: bool = False, grid: Path | None = None) 
 
 
 def main(argv=None) -> int:
-    import argparse
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes (for the tests)")
-    parser.add_argument("--out", type=Path, help="write into DIR instead of docs/")
-    parser.add_argument("--grid", type=Path, help="a baked grid file instead of the shipped")
-    args = parser.parse_args(argv)
-    print(run(args.out, args.smoke, args.grid))
-    return 0
+    return report_main(run, __doc__.splitlines()[0], argv, [
+        ("--grid", {"type": Path, "help": "a baked grid file instead of the shipped one"})])
 
 
 if __name__ == "__main__":

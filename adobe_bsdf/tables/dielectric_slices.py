@@ -57,7 +57,7 @@ from adobe_bsdf.tables.anisotropic_energy import (
     projected_alpha,
     unblended,
 )
-from adobe_bsdf.tables.table import Axis, Table, TableSpec
+from adobe_bsdf.tables.table import Axis, Table, TableSpec, horner
 
 __all__ = ["DielectricSlice", "dielectric_slice", "SLICE_ORDER", "SLICE_NODES",
            "SLICE_NODE_ERROR", "layout", "node_directions", "node_energy", "filled",
@@ -402,14 +402,6 @@ class DielectricSlice:
                 (i, t_x[here]), (j, t_u[here]) = (x_axis.locate(x, checked=False),
                                                   u_axis.locate(u, checked=False))
                 cell[here] = offsets[k] + i * (u_axis.n - 1) + j
-
-        def horner(c, t):
-            value = c(3) * t
-            for p in (2, 1):
-                value += c(p)
-                value *= t
-            value += c(0)
-            return value
         value = horner(lambda p: horner(lambda q: np.take(coefficients[p, q], cell), t_u),
                        t_x)
         return value.reshape(shape)

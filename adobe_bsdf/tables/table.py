@@ -26,7 +26,8 @@ from scipy.special import lambertw
 
 from adobe_bsdf import _params
 
-__all__ = ["Axis", "TableSpec", "Table", "TableError", "save", "load", "PARAMETERISATIONS"]
+__all__ = ["Axis", "TableSpec", "Table", "TableError", "save", "load", "PARAMETERISATIONS",
+           "horner"]
 
 
 #: batches above this size whose coordinates are all one point are looked up once
@@ -394,14 +395,6 @@ class Table:
             cell = part if cell is None else cell + part
         t = [x for _, x in located]
 
-        def horner(coefficients, x):
-            value = coefficients(3) * x
-            for p in (2, 1):
-                value += coefficients(p)
-                value *= x
-            value += coefficients(0)
-            return value
-
         if len(t) == 1:
             return horner(lambda p: np.take(c[p], cell), t[0])
         return horner(lambda p: horner(lambda q: np.take(c[p, q], cell), t[1]), t[0])
@@ -482,6 +475,17 @@ class Table:
 
 
 # -- storage ---------------------------------------------------------------------------------
+def horner(coefficients, x):
+    """sum_p coefficients(p) x^p for p <= 3 by Horner's rule (``coefficients(p)`` an
+    array, or a scalar, per power)."""
+    value = coefficients(3) * x
+    for p in (2, 1):
+        value += coefficients(p)
+        value *= x
+    value += coefficients(0)
+    return value
+
+
 def _digest(spec_json: str, values: np.ndarray, errors: np.ndarray) -> str:
     h = hashlib.sha256(spec_json.encode())
     h.update(np.ascontiguousarray(values, dtype="<f8").tobytes())
