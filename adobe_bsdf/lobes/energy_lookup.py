@@ -423,9 +423,8 @@ def _slice(alpha: float, ratio: float, eta: float, source: str):
 
 def _slices(eta, distribution: GGX, shape, source: str):
     """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one slice per
-    distinct (alpha, ratio, index ratio) of the parameters from ``source`` (``_slice``), its
-    mask ``shape``
-    (a broadcast view where the parameters are scalars)."""
+    distinct (alpha, ratio, index ratio) of the parameters, from ``source`` (``_slice``),
+    each mask of ``shape`` (a broadcast view of the parameters' mask)."""
     alpha, ratio = _alpha_ratio(distribution)
     index = checked_ratio(eta, "ggx_dielectric_anisotropic (the slices)")
     params = np.broadcast_shapes(np.shape(eta), distribution.param_shape)

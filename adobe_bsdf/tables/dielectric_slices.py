@@ -16,7 +16,9 @@ some 10^7 nodes, beyond any package size. A lobe holds one (alpha_x, alpha_y, et
 needs only the two-dimensional slice through it: a few hundred nodes by
 ``anisotropic_energy.ggx_anisotropic_dielectric_energy`` (seconds), then lookups as fast as a
 shipped table's. The slice is exact in alpha, ratio and eta; its error is the interpolation's
-in (mu, phi), measured in the report.
+in (mu, phi), measured in the report. ``dielectric_grid`` holds slices at grid points of
+(alpha, ratio, eta) and interpolates any other across them (``layout``, ``filled`` and
+``assembled`` build a slice from given node values).
 
 Coordinates. Seen from the less dense side, one table over (s, |cos phi|), |cos phi| (from
 the axis of alpha_max) log-spaced towards the smooth axis and s = 1 - sqrt(1 - v) of the
