@@ -40,6 +40,7 @@ Axes, each uniform in q = ln(x + offset) at a step of at most ``STEP``:
 from __future__ import annotations
 
 import functools
+import os
 from pathlib import Path
 
 import numpy as np
@@ -124,7 +125,9 @@ def bake(folder, executor, progress: bool = True) -> Path:
     with tqdm(total=len(tasks), initial=len(tasks) - len(todo), desc=NAME, unit="slice",
               disable=not progress) as bar:
         for _, (half, i, values) in executor.map(_task, todo):
-            np.save(partial / f"{half}_{i:05d}.npy", values)
+            done = partial / f"{half}_{i:05d}.npy"
+            np.save(done.with_suffix(".part.npy"), values)
+            os.replace(done.with_suffix(".part.npy"), done)  # a stopped bake leaves no half file
             bar.update()
     grid = {}
     for half, axes in HALVES.items():
