@@ -231,8 +231,8 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler
         spec(name)  # unknown names raise before any work
     if grid and (do_check or in_place or resolution):
         raise ValueError(f"{dielectric_grid.NAME} (the grid of anisotropic dielectric "
-                         "slices, not yet read by the library) is baked into --out only: "
-                         "without --check, --in-place or --resolution")
+                         "slices, read once its file is in the shipped tables) is baked "
+                         "into --out only: without --check, --in-place or --resolution")
     if in_place and (out is not None or resolution):
         raise ValueError("in_place writes the shipped tables: it takes neither out nor "
                          "resolution")
