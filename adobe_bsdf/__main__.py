@@ -557,8 +557,8 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     p_bake.add_argument("names", nargs="*", metavar="NAME",
                         help="tables to bake (default: all the shipped ones); tables derived "
                         "from them are re-derived. ggx_dielectric_anisotropic, the grid of "
-                        "anisotropic dielectric slices (hours of compute; resumes), is baked "
-                        "only when named, into --out")
+                        "anisotropic dielectric slices (hours of compute; resumes column by "
+                        "column), is baked only when named")
     p_bake.add_argument("--out", metavar="DIR",
                         help="write the tables to DIR (default: the folder shown below)")
     p_bake.add_argument("--in-place", action="store_true",

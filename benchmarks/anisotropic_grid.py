@@ -1,7 +1,7 @@
 """The shipped grid of anisotropic dielectric slices against the exact mode, and what it
 costs; writes ``docs/anisotropic_grid_measured.md``.
 
-    python -m benchmarks.anisotropic_grid [--smoke] [--out DIR] [--grid FILE]
+    python -m benchmarks.anisotropic_grid [--smoke] [--out DIR] [--grid DIR]
 
 Accuracy. Held-out interfaces (seed 20261207): alpha_max log-uniform in [0.005, 2], ratio
 uniform in [0, 1], the index ratio eta with eta - 1 log-uniform in [0.01, 2], plus fixed
@@ -10,13 +10,14 @@ each, the slice interpolated from the grid (``tables.dielectric_grid.interpolate
 against the slice the exact mode computes (``tables.dielectric_slices.dielectric_slice``:
 the reference), at random directions on both sides (mu log-uniform in [1e-3, 1], any
 azimuth): E_R + E_T and E_R, max and RMS, and the hemispherical averages that the
-Kulla-Conty terms divide by. ``--grid FILE`` measures a baked file (``bake
-ggx_dielectric_anisotropic --out DIR``) instead of the shipped one.
+Kulla-Conty terms divide by. ``--grid DIR`` measures a baked grid (the folder ``bake
+ggx_dielectric_anisotropic --out DIR`` writes) instead of the shipped one.
 
 Cost (one thread, the same batch, alternating rounds, the best of each): ``eval`` and
 ``sample`` of an anisotropic ``DielectricMS`` and of white translucent and opaque
 anisotropic ASM dielectrics against their isotropic counterparts; the first use in a fresh
-process (the first anisotropic lobe built and evaluated, the grid loaded); the file's size.
+process (the first anisotropic lobe built and evaluated, the columns it needs loaded); the files'
+size.
 """
 
 from __future__ import annotations
@@ -54,7 +55,7 @@ def _directions(rng, n):
     return np.exp(rng.uniform(np.log(1e-3), 0.0, n)), rng.uniform(0.0, 1.0, n)
 
 
-def compare(grid: dict, interface, seed: int = SEED) -> dict:
+def compare(grid, interface, seed: int = SEED) -> dict:
     """Errors of the grid's slice at ``interface`` against the exact one."""
     exact = dielectric_slice(*interface)
     piece = dielectric_grid.interpolated_slice(grid, *interface)
@@ -130,13 +131,12 @@ def first_use() -> float:
 
 def measure(smoke: bool = False, path: Path | None = None) -> dict:
     path = Path(path) if path is not None else dielectric_grid._path()
-    with np.load(path) as arrays:
-        grid = dielectric_grid.decode(arrays)
+    grid = dielectric_grid.stored_columns(path)
     cases = interfaces(SMOKE_INTERFACES if smoke else INTERFACES)
     extremes = EXTREMES[:1] if smoke else EXTREMES
     rows = [(c, compare(grid, c)) for c in cases + extremes]
-    result = {"rows": rows, "n_random": len(cases), "bytes": path.stat().st_size,
-              "path": path.name}
+    result = {"rows": rows, "n_random": len(cases), "path": path.name,
+              "bytes": sum(f.stat().st_size for f in path.glob("*.npz"))}
     if not smoke:
         result["costs"] = costs()
         result["first_use"] = first_use()
@@ -167,13 +167,14 @@ def markdown(result: dict, seconds: float) -> str:
         out.append(f"| ({c[0]:.4g}, {c[1]:.3g}, {c[2]:.5g}) | "
                    + " | ".join(f"{np.abs(r[k]).max():.1e}"
                                 for k in ("light", "dense", "light E_R", "dense E_R")) + " |")
-    out += ["", f"The grid's file {result['path']}: {result['bytes'] / 2**20:.2f} MB."]
+    out += ["", f"The grid's files ({result['path']}/, one per index ratio): "
+            f"{result['bytes'] / 2**20:.2f} MB."]
     if "costs" in result:
         out += ["", "## Cost", "", "| lobe | eval / isotropic | sample / isotropic |",
                 "|---|---|---|"]
         for name, e, s in result["costs"]:
             out.append(f"| {name} | {e:.2f} | {s:.2f} |")
-        out += ["", f"First use in a fresh process (the grid loaded, the lobe built and "
+        out += ["", f"First use in a fresh process (the columns it needs loaded, the lobe built and "
                 f"evaluated): {result['first_use']:.2f} s."]
     return "\n".join(out) + "\n"
 
@@ -184,7 +185,7 @@ def run(out: Path | None = None, smoke: bool = False, grid: Path | None = None) 
 
 def main(argv=None) -> int:
     return report_main(run, __doc__.splitlines()[0], argv, [
-        ("--grid", {"type": Path, "help": "a baked grid file instead of the shipped one"})])
+        ("--grid", {"type": Path, "help": "a baked grid's folder instead of the shipped one"})])
 
 
 if __name__ == "__main__":

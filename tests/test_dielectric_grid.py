@@ -37,9 +37,10 @@ def test_a_grid_point_holds_its_slice():
     np.testing.assert_allclose(values, want, rtol=0, atol=1e-7)
 
 
-def test_the_bake_resumes_and_assembles_in_grid_order(tmp_path, monkeypatch):
-    """With a stand-in for the slices: the files already finished are kept (not computed
-    again), the rest computed, and the result holds each point's values at its index."""
+def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
+    """With a stand-in for the slices: slices and columns already finished are kept (not
+    computed again), the rest computed, each column stored as soon as its slices are done
+    (the finished slices then removed), and every point's values are at its index."""
     calls = []
 
     def fake(point):
@@ -50,28 +51,37 @@ def test_the_bake_resumes_and_assembles_in_grid_order(tmp_path, monkeypatch):
     monkeypatch.setattr(grid, "slice_values", fake)
     partial = tmp_path / f"{grid.NAME}.partial"
     partial.mkdir()
-    np.save(partial / "below_00007.npy", np.full((3, 2), 0.25, dtype=np.float32))
+    n_eta = grid.HALVES["below"][2].n
+    np.save(partial / f"below_{n_eta + 2:05d}.npy", np.full((3, 2), 0.25, dtype=np.float32))
+    kept = np.full(tuple(a.n for a in grid.HALVES["above"][:2]) + (3, 2), 0.5)
+    grid.write_column(tmp_path / grid.NAME, "above", 4, kept)
+    stored = []
+    monkeypatch.setattr(grid, "write_column", lambda *a, _w=grid.write_column: (
+        stored.append(a[1:3]), _w(*a))[1])
     with open_executor(1) as ex:
-        path = grid.bake(tmp_path, ex, progress=False)
+        out = grid.bake(tmp_path, ex, progress=False)
     n = sum(len(grid.grid_points(h)) for h in grid.HALVES)
-    assert len(calls) == n - 1
-    data = grid.decode(np.load(path))
+    n_column = len(grid.grid_points("above")) // grid.HALVES["above"][2].n
+    assert len(calls) == n - 1 - n_column
+    assert stored == [c for c in grid.columns() if c != ("above", 4)]  # in column order
+    assert not partial.exists()
+    column = grid.stored_columns(out)
     for half in grid.HALVES:
-        values = data[half]
-        assert values.shape == tuple(a.n for a in grid.HALVES[half]) + (3, 2)
-        flat = values.reshape(-1, 3, 2)
-        points = grid.grid_points(half)
-        for i in range(len(points)):
-            if (half, i) != ("below", 7):  # the stored values, to their rounding
-                want = (points[i].sum() - 1.0) / 6.0
-                assert np.abs(flat[i] - want).max() <= 0.5 / grid.QUANTUM + 1e-7
-    kept = data["below"].reshape(-1, 3, 2)[7]
-    assert np.abs(kept - 0.25).max() <= 0.5 / grid.QUANTUM  # the file found, not recomputed
+        points = grid.grid_points(half).reshape(tuple(a.n for a in grid.HALVES[half]) + (3,))
+        for k in range(grid.HALVES[half][2].n):
+            values = column(half, k)
+            want = (points[:, :, k].sum(-1) - 1.0) / 6.0
+            if (half, k) == ("above", 4):
+                want = np.full_like(want, 0.5)
+            if (half, k) == ("below", 2):
+                want[0, 1] = 0.25  # the file found, not recomputed
+            assert values.shape == want.shape + (3, 2)
+            assert np.abs(values - want[..., None, None]).max() <= 0.5 / grid.QUANTUM + 1e-7
 
 
-def test_the_grid_is_baked_into_a_folder_only(capsys):
-    """The command refuses the grid with --check, --in-place or --resolution."""
-    for option in (["--check"], ["--in-place"], ["--resolution", "4"]):
+def test_the_grid_is_baked_at_its_points_only(capsys):
+    """The command refuses the grid with --check or --resolution."""
+    for option in (["--check"], ["--resolution", "4"]):
         assert main(["bake", grid.NAME, *option]) == 2
         err = capsys.readouterr().err
         assert grid.NAME in err, option
@@ -106,7 +116,7 @@ def test_interpolated_slice_between_grid_points(interface):
     grid's coordinates comes back to rounding, laid out at the interface's own parts."""
     n_nodes = sum(int(np.prod(p.table.spec.shape[:-1])) for p in _layout(interface))
     values, exact = _quadratic_grid(n_nodes)
-    piece = grid.interpolated_slice(values, *interface)
+    piece = grid.interpolated_slice(grid.array_columns(values), *interface)
     got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
     np.testing.assert_allclose(got, exact(*interface), rtol=0, atol=1e-9)
     assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
@@ -123,6 +133,7 @@ def test_interpolated_slice_off_the_grid_and_at_sqrt2():
     nearer half's end is read."""
     n = sum(int(np.prod(p.table.spec.shape[:-1])) for p in _layout((0.3, 0.3, 1.3)))
     values, _ = _quadratic_grid(n)
+    values = grid.array_columns(values)
     assert grid.interpolated_slice(values, 0.3, 0.3, 1.005) is None
     assert grid.interpolated_slice(values, 0.3, 0.3, 3.01) is None
     at = grid.interpolated_slice(values, 0.3, 0.3, np.sqrt(2.0) * (1.0 - 1e-7))
@@ -146,7 +157,7 @@ def synthetic_grid(monkeypatch):
         values[half] = v
     module.grid_slice.cache_clear()
     monkeypatch.setattr(module, "shipped", lambda: True)
-    monkeypatch.setattr(module, "load", lambda: values)
+    monkeypatch.setattr(module, "_shipped_columns", lambda: module.array_columns(values))
     yield
     module.grid_slice.cache_clear()
 
@@ -185,8 +196,9 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
         v = np.empty(tuple(a.n for a in axes) + (n, 2))
         v[..., 0], v[..., 1] = 8192 / grid.QUANTUM, 49151 / grid.QUANTUM  # stored exactly
         values[half] = v
-    path = tmp_path / "grid.npz"
-    np.savez_compressed(path, **grid.encode(values))
+    path = tmp_path / grid.NAME
+    for half, k in grid.columns():
+        grid.write_column(path, half, k, values[half][:, :, k])
     result = anisotropic_grid.measure(smoke=True, path=path)
     (alpha, ratio, eta), errors = result["rows"][0]
     piece = dielectric_slice(alpha, ratio, eta)
@@ -195,4 +207,4 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
     want = (8192 + 49151) / grid.QUANTUM - piece(True, mu, cos_phi).sum(-1)
     np.testing.assert_allclose(errors["light"], want, rtol=0, atol=1e-12)
     page = anisotropic_grid.markdown(result, 1.0)
-    assert "| light (E_R + E_T unless named) |" in page and "grid.npz" in page
+    assert "| light (E_R + E_T unless named) |" in page and grid.NAME in page

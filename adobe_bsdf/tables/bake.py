@@ -229,10 +229,10 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler
     only_grid = grid and not names
     for name in names:
         spec(name)  # unknown names raise before any work
-    if grid and (do_check or in_place or resolution):
+    if grid and (do_check or resolution):
         raise ValueError(f"{dielectric_grid.NAME} (the grid of anisotropic dielectric "
-                         "slices, read once its file is in the shipped tables) is baked "
-                         "into --out only: without --check, --in-place or --resolution")
+                         "slices) is baked at its declared points: without --check or "
+                         "--resolution")
     if in_place and (out is not None or resolution):
         raise ValueError("in_place writes the shipped tables: it takes neither out nor "
                          "resolution")
@@ -266,7 +266,8 @@ def run(names=(), *, do_check=False, n_nodes=16, seed=0, workers=None, scheduler
             print(f"computing on {ex}", flush=True)
         if grid:
             path = dielectric_grid.bake(folder, ex, progress=True)
-            print(f"{dielectric_grid.NAME:28s} {path.stat().st_size / 2**20:8.1f} MB", flush=True)
+            size = sum(f.stat().st_size for f in path.glob("*.npz"))
+            print(f"{dielectric_grid.NAME:28s} {size / 2**20:8.1f} MB", flush=True)
         for name in [] if only_grid else _ordered(list(names) or list(SPECS)):
             s = spec(name)
             if resolution:

@@ -6,16 +6,21 @@ Public API
 ``grid_points(half)``      ``(n, 3)`` (alpha, ratio, eta) of every grid point, in C order.
 ``slice_values(point)``    the node values of the slice there, as ``dielectric_slice`` holds
                            them (``(n_nodes, 2)`` E_R, E_T, float32).
-``bake(folder, executor)`` every grid point's slice, resumably: one file per finished slice
-                           in ``<folder>/<NAME>.partial``, then ``<folder>/<NAME>.npz``.
-``shipped()`` / ``load()``  whether the library ships the baked grid / its values (decoded
-                           once per process).
+``bake(folder, executor)`` every grid point's slice into ``<folder>/<NAME>/``, one file per
+                           column (the slices at one index ratio), resumably.
+``shipped()``              whether the library ships the whole baked grid.
 ``grid_slice(alpha, ratio, eta)``
                            ``interpolated_slice`` of the shipped grid (cached).
-``interpolated_slice(grid, alpha, ratio, eta)``
+``interpolated_slice(column, alpha, ratio, eta)``
                            the ``DielectricSlice`` of any interface on the grid: its node
                            values interpolated across the grid points (cubic convolution
                            per axis, ``Axis.stencil``); None where eta is off the grid.
+``stored_columns(folder)`` / ``array_columns(grid)``
+                           the grid's columns, read from files (each when first needed) or
+                           from arrays.
+
+The grid is stored one column a file (``write_column``, ``encode``): an interface reads the
+four columns about its index ratio, and a bake that stops keeps what it finished.
 
 Why a grid of slices (``docs/anisotropic_candidates_measured.md``): node for node, a slice's
 values (in coordinates aligned with the critical angle and the kinks of a nearly
@@ -56,8 +61,8 @@ from adobe_bsdf.tables.dielectric_slices import (
 from adobe_bsdf.tables.table import Axis
 
 __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "decode",
-           "shipped", "load", "grid_slice", "interpolated_slice", "ETA_MIN", "ETA_MAX",
-           "ALPHA_MAX"]
+           "columns", "column_file", "write_column", "stored_columns", "array_columns",
+           "shipped", "grid_slice", "interpolated_slice", "ETA_MIN", "ETA_MAX", "ALPHA_MAX"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -111,31 +116,71 @@ def _task(task):
     return half, index, slice_values(point)
 
 
+def _shape(half: str) -> tuple[int, int, int]:
+    return tuple(a.n for a in HALVES[half])
+
+
+def column_file(folder, half: str, k: int) -> Path:
+    """``<folder>/<half>_<k>.npz``: the stored slices of ``half``'s k-th index ratio."""
+    return Path(folder) / f"{half}_{k:02d}.npz"
+
+
+def columns() -> list[tuple[str, int]]:
+    """(half, k) of every column of the grid: the slices at one index ratio."""
+    return [(half, k) for half in HALVES for k in range(_shape(half)[2])]
+
+
+def write_column(folder, half: str, k: int, values) -> Path:
+    """Store ``values`` ``(n_alpha, n_ratio, n_nodes, 2)``, the slices of column (``half``,
+    ``k``), as ``encode`` stores them (written under a temporary name, then renamed)."""
+    out = column_file(folder, half, k)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    part = out.with_suffix(".part.npz")
+    np.savez_compressed(part, values=encode(values))
+    os.replace(part, out)
+    return out
+
+
 def bake(folder, executor, progress: bool = True) -> Path:
-    """Compute every grid point's slice on ``executor`` (``executors.open_executor``),
-    keeping each finished one in ``<folder>/<NAME>.partial`` (a bake that stops resumes
-    there), then write ``<folder>/<NAME>.npz`` (``encode``)."""
+    """Compute every grid point's slice on ``executor`` (``executors.open_executor``) into
+    ``<folder>/<NAME>/``, one file per column (``write_column``) as soon as its slices are
+    done; finished slices wait in ``<folder>/<NAME>.partial`` until then. A bake that stops
+    resumes from both: columns already written are not computed again."""
     from tqdm import tqdm
 
     folder = Path(folder)
-    partial = folder / f"{NAME}.partial"
+    out, partial = folder / NAME, folder / f"{NAME}.partial"
     partial.mkdir(parents=True, exist_ok=True)
-    tasks = [(half, i, tuple(p)) for half in HALVES for i, p in enumerate(grid_points(half))]
-    todo = [t for t in tasks if not (partial / f"{t[0]}_{t[1]:05d}.npy").exists()]
-    with tqdm(total=len(tasks), initial=len(tasks) - len(todo), desc=NAME, unit="slice",
+
+    def done(half, i):
+        return partial / f"{half}_{i:05d}.npy"
+
+    def store_if_complete(half, k):
+        n_alpha, n_ratio, n_eta = _shape(half)
+        files = [done(half, i) for i in range(k, n_alpha * n_ratio * n_eta, n_eta)]
+        if column_file(out, half, k).exists() or not all(f.exists() for f in files):
+            return
+        values = np.stack([np.load(f) for f in files])
+        write_column(out, half, k, values.reshape((n_alpha, n_ratio) + values.shape[1:]))
+        for f in files:
+            f.unlink()
+
+    for half, k in columns():
+        store_if_complete(half, k)
+    tasks = [(half, i, tuple(p)) for half in HALVES for i, p in enumerate(grid_points(half))
+             if not column_file(out, half, i % _shape(half)[2]).exists()
+             and not done(half, i).exists()]
+    tasks.sort(key=lambda t: (t[0] == "above", t[1] % _shape(t[0])[2]))  # column by column
+    n = sum(int(np.prod(_shape(h))) for h in HALVES)
+    with tqdm(total=n, initial=n - len(tasks), desc=NAME, unit="slice",
               disable=not progress) as bar:
-        for _, (half, i, values) in executor.map(_task, todo):
-            done = partial / f"{half}_{i:05d}.npy"
-            np.save(done.with_suffix(".part.npy"), values)
-            os.replace(done.with_suffix(".part.npy"), done)  # a stopped bake leaves no half file
+        for _, (half, i, values) in executor.map(_task, tasks):
+            np.save(done(half, i).with_suffix(".part.npy"), values)
+            os.replace(done(half, i).with_suffix(".part.npy"), done(half, i))
+            store_if_complete(half, i % _shape(half)[2])
             bar.update()
-    grid = {}
-    for half, axes in HALVES.items():
-        n = int(np.prod([a.n for a in axes]))
-        values = np.stack([np.load(partial / f"{half}_{i:05d}.npy") for i in range(n)])
-        grid[half] = values.reshape(tuple(a.n for a in axes) + values.shape[1:])
-    out = folder / f"{NAME}.npz"
-    np.savez_compressed(out, **encode(grid))
+    if not any(partial.iterdir()):
+        partial.rmdir()
     return out
 
 
@@ -144,20 +189,32 @@ def bake(folder, executor, progress: bool = True) -> Path:
 QUANTUM = 65535
 
 
-def encode(grid: dict) -> dict:
-    """The arrays of the stored grid: per half, ``<half>`` int32 differences along the
-    ratio axis of the values rounded to multiples of 1 / ``QUANTUM``."""
-    out = {}
-    for half, values in grid.items():
-        q = np.rint(np.clip(np.asarray(values, dtype=np.float64), 0.0, 1.0) * QUANTUM)
-        out[half] = np.diff(q.astype(np.int32), axis=1, prepend=0)
-    return out
+def encode(values) -> np.ndarray:
+    """A column's stored array: int32 differences along the ratio axis (1) of ``values``
+    ``(n_alpha, n_ratio, ...)`` rounded to multiples of 1 / ``QUANTUM``."""
+    q = np.rint(np.clip(np.asarray(values, dtype=np.float64), 0.0, 1.0) * QUANTUM)
+    return np.diff(q.astype(np.int32), axis=1, prepend=0)
 
 
-def decode(arrays) -> dict:
-    """``{half: values (n_alpha, n_ratio, n_eta, n_nodes, 2)}`` float64 of ``encode``'s
-    arrays."""
-    return {half: np.cumsum(arrays[half], axis=1) / QUANTUM for half in HALVES}
+def decode(stored) -> np.ndarray:
+    """The float64 values of ``encode``'s array."""
+    return np.cumsum(stored, axis=1) / QUANTUM
+
+
+def stored_columns(folder):
+    """``column(half, k)``: the decoded values of the columns stored in ``folder``, each read
+    once (a grid for ``interpolated_slice``)."""
+    @functools.lru_cache(maxsize=None)
+    def column(half: str, k: int) -> np.ndarray:
+        with np.load(column_file(folder, half, k)) as arrays:
+            return decode(arrays["values"])
+    return column
+
+
+def array_columns(grid: dict):
+    """``column(half, k)`` of a grid held whole, ``{half: values (n_alpha, n_ratio, n_eta,
+    n_nodes, 2)}`` (a grid for ``interpolated_slice``)."""
+    return lambda half, k: np.asarray(grid[half])[:, :, k]
 
 
 def _half(eta: float) -> tuple[str, float]:
@@ -168,47 +225,47 @@ def _half(eta: float) -> tuple[str, float]:
     return half, float(np.clip(np.log(eta - 1.0 + ETA_OFFSET), axis.lo, axis.hi))
 
 
-def interpolated_slice(grid: dict, alpha: float, ratio: float,
+def interpolated_slice(column, alpha: float, ratio: float,
                        eta: float) -> DielectricSlice | None:
     """The slice of (alpha_max ``alpha`` in [0, ``ALPHA_MAX``], ``ratio`` in [0, 1], index
-    ratio ``eta``) from ``grid`` (``{half: values (n_alpha, n_ratio, n_eta, n_nodes, 2)}``,
-    as ``bake`` writes them): every node's value interpolated across the 4 x 4 x 4 grid
-    points around it, the parts laid out at the grid's eta (the interface's own, except
-    within ``SQRT2_GAP`` of sqrt 2); None where ``eta`` is outside [``ETA_MIN``,
-    ``ETA_MAX``]."""
+    ratio ``eta``) from the grid whose columns ``column(half, k)`` gives (``stored_columns``,
+    ``array_columns``): every node's value interpolated across the 4 x 4 x 4 grid points
+    around it (only those four columns read), the parts laid out at the grid's eta (the
+    interface's own, except within ``SQRT2_GAP`` of sqrt 2); None where ``eta`` is outside
+    [``ETA_MIN``, ``ETA_MAX``]."""
     alpha, ratio, eta = float(alpha), float(ratio), float(eta)
     if not ETA_MIN <= eta <= ETA_MAX:
         return None
     half, q_eta = _half(eta)
     coords = (np.log(min(alpha, ALPHA_MAX) + ALPHA_OFFSET),
               np.log(min(max(ratio, 0.0), 1.0) + RATIO_OFFSET), q_eta)
-    values = np.asarray(grid[half])
-    for axis, q in zip(HALVES[half], coords, strict=True):
-        index, weight = axis.stencil(np.clip(q, axis.lo, axis.hi))
-        values = np.tensordot(weight, values[index], axes=(0, 0))  # the axis contracted
+    (ia, wa), (ir, wr), (ie, we) = [axis.stencil(np.clip(q, axis.lo, axis.hi))
+                                    for axis, q in zip(HALVES[half], coords, strict=True)]
+    block = np.stack([column(half, int(k))[np.ix_(ia, ir)] for k in ie])
+    values = np.einsum("e,a,r,earnc->nc", we, wa, wr, block)
     eta_grid = 1.0 + np.exp(q_eta) - ETA_OFFSET
-    parts = filled(layout(alpha, ratio, eta_grid), values.astype(np.float64))
+    parts = filled(layout(alpha, ratio, eta_grid), values)
     return assembled(alpha, ratio, eta, parts)
 
 
 def _path() -> Path:
     from adobe_bsdf.tables.store import data_dir
-    return data_dir() / f"{NAME}.npz"
+    return data_dir() / NAME
 
 
 def shipped() -> bool:
-    """Whether the library ships the baked grid (``tables/ggx_dielectric_anisotropic.npz``)."""
-    return _path().exists()
+    """Whether the library ships the whole baked grid (every column in
+    ``tables/ggx_dielectric_anisotropic/``)."""
+    return all(column_file(_path(), half, k).exists() for half, k in columns())
 
 
 @functools.lru_cache(maxsize=1)
-def load() -> dict:
-    """The shipped grid's values (``decode``), read once per process."""
-    with np.load(_path()) as arrays:
-        return decode(arrays)
+def _shipped_columns():
+    return stored_columns(_path())
 
 
 @functools.lru_cache(maxsize=256)
 def grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
-    """``interpolated_slice`` of the shipped grid, kept for the 256 interfaces last read."""
-    return interpolated_slice(load(), alpha, ratio, eta)
+    """``interpolated_slice`` of the shipped grid (each column read from its file when
+    first needed), kept for the 256 interfaces last read."""
+    return interpolated_slice(_shipped_columns(), alpha, ratio, eta)
