@@ -306,6 +306,25 @@ def test_slice_energy_groups_distinct_parameters():
     np.testing.assert_array_equal(E[[0, 2]], single)
 
 
+@pytest.mark.parametrize("channel", ["total", "reflection"])
+def test_one_interface_reads_its_slice_as_arrays_of_it_do(channel):
+    """One interface (scalar parameters, read without masks) gives what a parameter array
+    holding it gives, bit for bit, from both sides, at grazing and rotated axes, errors
+    included."""
+    rng = np.random.default_rng(5)
+    wo = rng.normal(size=(400, 3))
+    wo[:20, 2] = 0.0  # in the tangent plane: 0
+    wo /= np.linalg.norm(wo, axis=-1, keepdims=True)
+    for eta in (ETA, 1.0 / ETA):
+        for ax, ay in ((ALPHA_X, ALPHA_Y), (ALPHA_Y, ALPHA_X)):
+            one = slice_energy(eta, GGX(ax, ay), wo, True, channel)
+            many = slice_energy(np.array([eta]), GGX(np.array([ax]), np.array([ay])),
+                                wo[:, None], True, channel)
+            for a, b in zip(one, many, strict=True):
+                np.testing.assert_array_equal(a, b[:, 0])
+            assert np.all(one[0][:20] == 0.0) and np.all(one[0][20:] > 0.0)
+
+
 def test_anisotropic_energy_option_is_checked():
     with pytest.raises(ValueError,
                        match="anisotropic_energy = 'fast'.*'table', 'exact', 'isotropic'"):

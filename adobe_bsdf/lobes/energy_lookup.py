@@ -388,10 +388,11 @@ def _cos_phi(x_rough, w):
     """|cos phi| of ``w``'s azimuth from the rough axis (x where ``x_rough``, else y); 1 at
     normal incidence."""
     x2, y2 = w[..., 0] ** 2, w[..., 1] ** 2
-    along = pick(x_rough, x2, y2)  # along the axis of alpha
+    along = (x2 if x_rough else y2) if np.ndim(x_rough) == 0 else pick(x_rough, x2, y2)
     horizontal = x2 + y2
-    return pick(horizontal > 0.0, np.sqrt(np.minimum(
-        along / pick(horizontal > 0.0, horizontal, 1.0), 1.0)), 1.0)
+    cos2 = np.divide(along, horizontal, where=horizontal > 0.0,
+                     out=np.ones(np.broadcast_shapes(np.shape(along), horizontal.shape)))
+    return np.sqrt(np.minimum(cos2, 1.0, out=cos2), out=cos2)
 
 
 def slice_source(distribution: GGX) -> str:
@@ -421,18 +422,40 @@ def _slice(alpha: float, ratio: float, eta: float, source: str):
     return dielectric_slice(alpha, ratio, eta)
 
 
+_SLICES = "ggx_dielectric_anisotropic (the slices)"
+
+
+def _interface_slice(distribution: GGX, eta, source: str):
+    """The slice of one interface (scalar parameters) from ``source``, None where it is
+    isotropic; its coordinates checked as ``_slices`` checks them (``_interface``)."""
+    alpha, ratio, index = _interface(float(distribution.alpha_x), float(distribution.alpha_y),
+                                     bool(is_anisotropic(distribution)), float(eta))
+    return None if alpha is None else _slice(alpha, ratio, index, source)
+
+
+@functools.lru_cache(maxsize=4096)
+def _interface(alpha_x: float, alpha_y: float, anisotropic: bool, eta: float):
+    """(alpha, ratio, index ratio) of one interface, or (None, None, None) where it is
+    isotropic (checked: ``ValueError`` outside the tables, never kept)."""
+    alpha, ratio = _alpha_ratio(GGX._new(alpha_x, alpha_y))
+    index = checked_ratio(eta, _SLICES)
+    if not anisotropic:
+        return None, None, None
+    return float(alpha), float(ratio), float(index)
+
+
 def _slices(eta, distribution: GGX, shape, source: str):
     """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one slice per
     distinct (alpha, ratio, index ratio) of the parameters, from ``source`` (``_slice``),
     each mask of ``shape`` (a broadcast view of the parameters' mask)."""
-    alpha, ratio = _alpha_ratio(distribution)
-    index = checked_ratio(eta, "ggx_dielectric_anisotropic (the slices)")
     params = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
     if params == ():  # one interface (anisotropic: the caller asked for its slice)
-        if is_anisotropic(distribution):
-            yield np.broadcast_to(True, shape), _slice(float(alpha), float(ratio),
-                                                       float(index), source)
+        piece = _interface_slice(distribution, eta, source)
+        if piece is not None:
+            yield np.broadcast_to(True, shape), piece
         return
+    alpha, ratio = _alpha_ratio(distribution)
+    index = checked_ratio(eta, _SLICES)
     aniso, alpha, ratio, index = (np.broadcast_to(a, params) for a in (
         is_anisotropic(distribution), alpha, ratio, index))
     rows = np.stack([alpha[aniso], ratio[aniso], index[aniso]], -1)
@@ -454,6 +477,18 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     mu = np.minimum(np.abs(wo[..., 2]), 1.0)
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
     shape = np.broadcast_shapes(mu.shape, np.shape(eta), distribution.param_shape)
+    if shape == mu.shape and np.ndim(eta) == 0 and distribution.param_shape == ():
+        piece = _interface_slice(distribution, eta, source)  # one interface: no masks
+        if piece is not None:
+            E = piece.channel(channel, on_light, mu, cos_phi)
+            error = piece.error(on_light, mu, cos_phi) if with_error else None
+            if error is not None:
+                error = error.sum(-1) if channel == "total" else error[..., 0]
+            grazing = wo[..., 2] == 0.0
+            E[grazing] = 0.0
+            if error is not None:
+                error[grazing] = 0.0
+            return E, error
     E = np.zeros(shape)
     error = np.zeros(shape) if with_error else None
     mu, cos_phi, on_light = (np.broadcast_to(a, shape) for a in (mu, cos_phi, on_light))

@@ -392,18 +392,26 @@ class DielectricSlice:
         on_light, mu, cos_phi = (np.ravel(a) for a in np.broadcast_arrays(on_light, mu,
                                                                           cos_phi))
         offsets, coefficients = self._cells[name]
-        which = self._which(on_light, mu, cos_phi)
-        cell = np.full(mu.shape, offsets[-1])  # the last cell is 0: points of no part
-        t_x, t_u = np.zeros(mu.shape), np.zeros(mu.shape)
-        for k, part in enumerate(self.parts):
-            here = np.flatnonzero(which == k)
-            if here.size:
-                x_axis, u_axis = part.table.spec.axes
-                x, u = part.coordinates(mu[here], cos_phi[here])
-                # (x, u) in [0, 1] by construction (``_Part.coordinates``)
-                (i, t_x[here]), (j, t_u[here]) = (x_axis.locate(x, checked=False),
-                                                  u_axis.locate(u, checked=False))
-                cell[here] = offsets[k] + i * (u_axis.n - 1) + j
+
+        def located(part, offset, mu, cos_phi):
+            x_axis, u_axis = part.table.spec.axes
+            x, u = part.coordinates(mu, cos_phi)
+            # (x, u) in [0, 1] by construction (``_Part.coordinates``)
+            (i, t_x), (j, t_u) = (x_axis.locate(x, checked=False),
+                                  u_axis.locate(u, checked=False))
+            return offset + i * (u_axis.n - 1) + j, t_x, t_u
+
+        if on_light.all():  # the light side's one part: no part to find
+            cell, t_x, t_u = located(self.parts[0], offsets[0], mu, cos_phi)
+        else:
+            which = self._which(on_light, mu, cos_phi)
+            cell = np.full(mu.shape, offsets[-1])  # the last cell is 0: points of no part
+            t_x, t_u = np.zeros(mu.shape), np.zeros(mu.shape)
+            for k, part in enumerate(self.parts):
+                here = np.flatnonzero(which == k)
+                if here.size:
+                    cell[here], t_x[here], t_u[here] = located(part, offsets[k], mu[here],
+                                                               cos_phi[here])
         value = horner(lambda p: horner(lambda q: np.take(coefficients[p, q], cell), t_u),
                        t_x)
         return value.reshape(shape)

@@ -74,6 +74,8 @@ def _lobe_integral(roughness, ior, w, with_error=False, microfacets=None, slices
 def _upper(ior, microfacets, w, up, with_error, slices):
     """``_lobe_integral`` of one anisotropic interface read from its slice at the directions
     above the surface only (0 below)."""
+    if up.all():
+        return slice_energy(ior, microfacets, w, with_error, "reflection", slices)
     index = np.nonzero(up)
     L = np.zeros(up.shape)
     error = np.zeros(up.shape) if with_error else None
