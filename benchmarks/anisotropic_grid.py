@@ -17,7 +17,7 @@ Cost (one thread, the same batch, alternating rounds, the best of each): ``eval`
 ``sample`` of an anisotropic ``DielectricMS`` and of white translucent and opaque
 anisotropic ASM dielectrics against their isotropic counterparts; the first use in a fresh
 process (the first anisotropic lobe built and evaluated, the columns it needs loaded); the files'
-size.
+size. The bake: one slice's time at random grid points, and the whole grid's on N workers.
 """
 
 from __future__ import annotations
@@ -129,6 +129,47 @@ def first_use() -> float:
     return float(run.stdout.split()[-1])
 
 
+#: grid points timed for the bake's cost, and the cluster sizes it is estimated for
+BAKE_POINTS, SMOKE_BAKE_POINTS = 8, 1
+WORKERS = (1, 2, 8, 32, 128)
+
+
+def bake_cost(n: int = BAKE_POINTS, seed: int = SEED) -> dict:
+    """Seconds to compute one grid slice (``dielectric_grid.slice_values``, one thread) at
+    ``n`` grid points drawn at random, and the grid's size in slices and in columns."""
+    import adobe_bsdf as ab
+
+    points = np.concatenate([dielectric_grid.grid_points(h) for h in dielectric_grid.HALVES])
+    chosen = np.random.default_rng(seed).choice(len(points), n, replace=False)
+    seconds = []
+    with ab.config.options(threads=1):
+        for point in points[chosen]:
+            start = time.perf_counter()
+            dielectric_grid.slice_values(point)
+            seconds.append(time.perf_counter() - start)
+    return {"seconds": seconds, "slices": len(points),
+            "columns": len(dielectric_grid.columns())}
+
+
+def _bake_lines(cost: dict) -> list[str]:
+    mean = float(np.mean(cost["seconds"]))
+    core_hours = mean * cost["slices"] / 3600.0
+    out = ["", "## The bake", "",
+           f"One slice takes {mean:.1f} s on one core here (mean of {len(cost['seconds'])} "
+           f"random grid points, {min(cost['seconds']):.1f}–{max(cost['seconds']):.1f} s); "
+           f"the grid's {cost['slices']} slices take {core_hours:.1f} core-hours. Slices are "
+           "independent tasks, so the bake (`python -m adobe_bsdf bake "
+           "ggx_dielectric_anisotropic --workers N`, or `--dask-workers N` / `--scheduler "
+           "ADDRESS` on a Dask cluster) scales with the workers until each has one slice; "
+           f"the grid is written as {cost['columns']} columns, each as soon as its slices "
+           "are done.", "", "| workers | estimated wall-clock |", "|---|---|"]
+    for n in WORKERS:
+        hours = core_hours / n
+        out.append(f"| {n} | {hours:.2f} h |" if hours >= 1.0 else
+                   f"| {n} | {hours * 60.0:.0f} min |")
+    return out
+
+
 def measure(smoke: bool = False, path: Path | None = None) -> dict:
     path = Path(path) if path is not None else dielectric_grid._path()
     grid = dielectric_grid.stored_columns(path)
@@ -137,6 +178,7 @@ def measure(smoke: bool = False, path: Path | None = None) -> dict:
     rows = [(c, compare(grid, c)) for c in cases + extremes]
     result = {"rows": rows, "n_random": len(cases), "path": path.name,
               "bytes": sum(f.stat().st_size for f in path.glob("*.npz"))}
+    result["bake"] = bake_cost(SMOKE_BAKE_POINTS if smoke else BAKE_POINTS)
     if not smoke:
         result["costs"] = costs()
         result["first_use"] = first_use()
@@ -174,8 +216,9 @@ def markdown(result: dict, seconds: float) -> str:
                 "|---|---|---|"]
         for name, e, s in result["costs"]:
             out.append(f"| {name} | {e:.2f} | {s:.2f} |")
-        out += ["", f"First use in a fresh process (the columns it needs loaded, the lobe built and "
-                f"evaluated): {result['first_use']:.2f} s."]
+        out += ["", "First use in a fresh process (the columns it needs loaded, the lobe "
+                f"built and evaluated): {result['first_use']:.2f} s."]
+    out += _bake_lines(result["bake"])
     return "\n".join(out) + "\n"
 
 

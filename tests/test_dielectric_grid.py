@@ -208,3 +208,4 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
     np.testing.assert_allclose(errors["light"], want, rtol=0, atol=1e-12)
     page = anisotropic_grid.markdown(result, 1.0)
     assert "| light (E_R + E_T unless named) |" in page and grid.NAME in page
+    assert "## The bake" in page and "| 128 |" in page

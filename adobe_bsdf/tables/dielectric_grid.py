@@ -62,8 +62,8 @@ from adobe_bsdf.tables.dielectric_slices import (
 from adobe_bsdf.tables.table import Axis
 
 __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "decode",
-           "columns", "column_file", "write_column", "read_column", "stored_columns", "array_columns",
-           "shipped", "grid_slice", "interpolated_slice", "ETA_MIN", "ETA_MAX", "ALPHA_MAX"]
+           "columns", "column_file", "write_column", "read_column", "stored_columns",
+           "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN", "ETA_MAX", "ALPHA_MAX"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -218,7 +218,7 @@ def decode(stored) -> np.ndarray:
 def stored_columns(folder):
     """``column(half, k)``: the decoded values of the columns stored in ``folder``, each read
     once (a grid for ``interpolated_slice``)."""
-    @functools.lru_cache(maxsize=None)
+    @functools.cache
     def column(half: str, k: int) -> np.ndarray:
         return read_column(column_file(folder, half, k))
     return column
