@@ -63,7 +63,8 @@ from adobe_bsdf.tables.table import Axis
 
 __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "decode",
            "columns", "column_file", "write_column", "read_column", "stored_columns",
-           "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN", "ETA_MAX", "ALPHA_MAX"]
+           "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN",
+           "ETA_MAX", "ALPHA_MAX"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
