@@ -46,12 +46,15 @@ def test_the_fallback_warning_states_the_measured_error():
     assert ISOTROPIC_FALLBACK_ERROR == (float(f"{light:.2g}"), float(f"{dense:.2g}"))
 
 
-def test_the_table_mode_warns_once_with_the_measured_error():
+def test_the_table_mode_without_the_grid_warns_once_with_the_measured_error(monkeypatch):
+    """An installation without the grid of slices reads the isotropic tables and says so,
+    once, with their measured error."""
     import warnings
 
     import adobe_bsdf as ab
     from adobe_bsdf.lobes import energy_lookup
 
+    monkeypatch.setattr(energy_lookup.dielectric_grid, "shipped", lambda: False)
     energy_lookup._FALLBACK_WARNED.clear()
     wo, wi = np.array([[0.6, 0.0, 0.8]]), np.array([[0.0, 0.6, -0.8]])
     with warnings.catch_warnings(record=True) as caught:
