@@ -30,6 +30,11 @@ Candidates:
   target midway) at the target slice's nodes and cell midpoints: the error of a five-
   dimensional table of slices at that spacing, per axis (log alpha, log ratio,
   log(eta - 1)).
+
+Measured on the shipped grid of slices itself (``grid_studies``): one reduced basis (SVD)
+per half of the grid, against held-out slices; and a residual over the isotropic energy at
+the projected roughness, interpolated across grid points at twice and four times the grid's
+step, against the energy interpolated itself.
 """
 
 from __future__ import annotations
@@ -227,6 +232,8 @@ def measure(smoke: bool = False) -> dict:
     if _SLICES:
         result["grid"] = grid_cost(GRID_STEP)
         result["rank"] = rank_study()
+    if not smoke:
+        result["grid_studies"] = grid_studies()
     return result
 
 
@@ -272,6 +279,121 @@ def rank_study() -> dict:
         approx = (U[:, :k] * sigma[:k]) @ Vt[:k]
         errors.append(float(np.abs(approx - matrix).max()))
     return {"slices": len(rows), "columns": matrix.shape[1], "errors": errors}
+
+
+#: the grid studies: held-out share of the reduced basis, its ranks, the targets of the
+#: residual study per axis, and the grid steps (in the grid's own nodes) between neighbours
+BASIS_HELD_OUT, BASIS_RANKS = 0.2, (8, 16, 32, 64, 128, 256)
+RESIDUAL_TARGETS, RESIDUAL_SPACINGS = 6, (1, 2)
+
+
+def _grid_totals(column, half: str) -> np.ndarray:
+    """``(n_slices, n_nodes)``: E_R + E_T at every node of every slice of ``half``'s grid."""
+    from adobe_bsdf.tables import dielectric_grid
+
+    n_eta = dielectric_grid.HALVES[half][2].n
+    return np.concatenate([column(half, k).sum(-1).reshape(-1, column(half, k).shape[2])
+                           for k in range(n_eta)])
+
+
+def basis_study(column, seed: int = SEED) -> dict:
+    """One reduced basis for a whole half of the grid of slices (``tables.dielectric_grid``):
+    the SVD of a random ``1 - BASIS_HELD_OUT`` of its slices (node values of E_R + E_T, the
+    mean removed), and the largest error of the held-out slices projected on its first k
+    singular vectors, per ``BASIS_RANKS``."""
+    out = {}
+    for half in ("below", "above"):
+        M = _grid_totals(column, half)
+        order = np.random.default_rng(seed).permutation(len(M))
+        n_test = int(round(BASIS_HELD_OUT * len(M)))
+        test, train = M[order[:n_test]], M[order[n_test:]]
+        mean = train.mean(0)
+        _, sigma, Vt = np.linalg.svd(train - mean, full_matrices=False)
+        errors = []
+        for k in BASIS_RANKS:
+            if k > len(sigma):
+                break
+            V = Vt[:k]
+            errors.append((k, float(np.abs((test - mean) @ V.T @ V + mean - test).max())))
+        out[half] = {"slices": len(M), "held_out": n_test, "nodes": M.shape[1],
+                     "errors": errors, "sigma": (sigma / sigma[0]).tolist()}
+    return out
+
+
+def _proxy_at_nodes(point) -> np.ndarray:
+    """E_R + E_T of the isotropic interface at each node's projected roughness (the
+    isotropic tables), at the nodes of the grid slice at ``point`` = (alpha, ratio, eta)."""
+    from adobe_bsdf.lobes.energy_lookup import dielectric_energy
+    from adobe_bsdf.tables.anisotropic_energy import projected_alpha
+    from adobe_bsdf.tables.dielectric_slices import layout, node_directions
+
+    alpha, ratio, eta = (float(x) for x in point)
+    mu, cos_phi, light = node_directions(layout(alpha, ratio, eta))
+    a_phi = projected_alpha(cos_phi, alpha, ratio)
+    mu = np.clip(mu, 1e-9, 1.0)
+    wo = np.stack([np.sqrt(1.0 - mu * mu), np.zeros_like(mu), np.where(light, mu, -mu)], -1)
+    return dielectric_energy(eta, GGX(a_phi, a_phi), wo)[0]
+
+
+def residual_study(column, seed: int = SEED) -> list:
+    """Interpolating the residual over the isotropic proxy at the projected roughness
+    (``_proxy_at_nodes``) against interpolating E_R + E_T itself: at ``RESIDUAL_TARGETS``
+    random interior grid points per axis and half, cubic convolution (the target midway)
+    from the grid points ``spacing`` (1, 2) grid steps either side of it, at the grid's
+    step times 2 ``spacing`` (a coarser grid); the largest error of each per side.
+    ``[(half, axis, spacing, {"E": (light, dense), "residual": (light, dense)})]``."""
+    from adobe_bsdf.tables import dielectric_grid
+    from adobe_bsdf.tables.dielectric_slices import layout, node_directions
+
+    rng = np.random.default_rng(seed)
+    weights = _catmull_rom(0.5)
+    out = []
+    for half in ("below", "above"):
+        shape = tuple(a.n for a in dielectric_grid.HALVES[half])
+        points = dielectric_grid.grid_points(half).reshape(shape + (3,))
+        for axis in range(3):
+            for spacing in RESIDUAL_SPACINGS:
+                reach = 3 * spacing
+                if shape[axis] <= 2 * reach:
+                    continue
+                worst = {"E": [0.0, 0.0], "residual": [0.0, 0.0]}
+                for _ in range(RESIDUAL_TARGETS):
+                    at = [int(rng.integers(0, n)) for n in shape]
+                    at[axis] = int(rng.integers(reach, shape[axis] - reach))
+                    # neighbours -3, -1, 1, 3 spacings away: a grid of step 2 spacings with
+                    # the target midway
+                    index = [tuple(at[:axis] + [at[axis] + k * spacing] + at[axis + 1:])
+                             for k in (-3, -1, 1, 3)]
+                    target = tuple(at)
+
+                    def values(i, half=half):
+                        return column(half, i[2])[i[0], i[1]].sum(-1)
+                    light = node_directions(layout(*points[target]))[2]
+                    E = values(target)
+                    guess = sum(w * values(i) for w, i in zip(weights, index, strict=True))
+                    residual = sum(w * (values(i) - _proxy_at_nodes(points[i]))
+                                   for w, i in zip(weights, index, strict=True))
+                    guess_r = residual + _proxy_at_nodes(points[target])
+                    for key, g in (("E", guess), ("residual", guess_r)):
+                        for s, side in enumerate((light, ~light)):
+                            worst[key][s] = max(worst[key][s],
+                                                float(np.abs(g - E)[side].max()))
+                out.append((half, ("alpha", "ratio", "eta")[axis], spacing,
+                            {k: tuple(v) for k, v in worst.items()}))
+    return out
+
+
+def grid_studies(path=None) -> dict:
+    """``basis_study`` and ``residual_study`` of the shipped grid (or the columns in
+    ``path``); {} where it is not complete."""
+    from adobe_bsdf.tables import dielectric_grid
+
+    folder = dielectric_grid._path() if path is None else Path(path)
+    if not all(dielectric_grid.column_file(folder, h, k).exists()
+               for h, k in dielectric_grid.columns()):
+        return {}
+    column = dielectric_grid.stored_columns(folder)
+    return {"basis": basis_study(column), "residual": residual_study(column)}
 
 
 def _stats(errors) -> str:
@@ -346,7 +468,42 @@ def markdown(result: dict, seconds: float) -> str:
                 "|---|" + "---|" * len(shown),
                 "| max error | " + " | ".join(f"{rank['errors'][k - 1]:.1e}" for k in shown)
                 + " |"]
+    out += _grid_study_lines(result.get("grid_studies"))
     return "\n".join(out) + "\n"
+
+
+def _grid_study_lines(studies) -> list[str]:
+    """The sections of ``grid_studies``, measured on the baked grid itself."""
+    if not studies:
+        return []
+    from adobe_bsdf.tables.dielectric_grid import STEP
+
+    out = ["", "## Measured on the baked grid of slices", "",
+           "Two more candidates, measured on the slices of the grid that ships "
+           "(`tables.dielectric_grid`, every node at its grid point: no further bake).", "",
+           "### One reduced basis for each half of the grid", "",
+           f"The SVD of a random {1 - BASIS_HELD_OUT:.0%} of a half's slices (E_R + E_T at "
+           "every node, the mean removed); the largest error of the held-out slices "
+           "projected on its first k singular vectors:", ""]
+    basis = studies["basis"]
+    ranks = [k for k, _ in basis["below"]["errors"]]
+    out += ["| half | slices (held out) | nodes | " + " | ".join(f"k = {k}" for k in ranks)
+            + " |", "|---|---|---|" + "---|" * len(ranks)]
+    for half, b in basis.items():
+        out.append(f"| {half} sqrt 2 | {b['slices']} ({b['held_out']}) | {b['nodes']} | "
+                   + " | ".join(f"{e:.1e}" for _, e in b["errors"]) + " |")
+    out += ["", "### A residual over the isotropic energy at the projected roughness", "",
+            "E_R + E_T minus the isotropic interface's at each node's projected roughness "
+            "(the isotropic tables), interpolated across grid points (cubic convolution, the "
+            f"target grid point midway) at {' and '.join(str(2 * s) for s in RESIDUAL_SPACINGS)}"
+            f" times the grid's step of {STEP:g}, against E_R + E_T interpolated itself; the "
+            f"largest error over {RESIDUAL_TARGETS} random targets per row:", "",
+            "| half | axis | log step | E: light | E: dense | residual: light | residual: "
+            "dense |", "|---|---|---|---|---|---|---|"]
+    for half, axis, spacing, r in studies["residual"]:
+        out.append(f"| {half} sqrt 2 | {axis} | {2 * spacing * STEP:.1f} | "
+                   + " | ".join(f"{x:.1e}" for x in (*r["E"], *r["residual"])) + " |")
+    return out
 
 
 def run(out: Path | None = None, smoke: bool = False) -> Path:

@@ -68,3 +68,38 @@ def test_the_table_mode_without_the_grid_warns_once_with_the_measured_error(monk
     assert f"{light:.2g}" in str(said[0].message) and f"{dense:.2g}" in str(said[0].message)
     assert said[0].filename == __file__  # points at the caller, not into the library
     energy_lookup._FALLBACK_WARNED.clear()
+
+
+def test_grid_studies_on_a_quadratic_grid(tmp_path):
+    """On a grid whose node values are quadratics in the grid's coordinates (q_alpha, q_ratio,
+    q_eta): cubic convolution reproduces E exactly at every spacing, and the held-out slices
+    lie in the span of the first 9 singular vectors (the quadratics less the mean), not in
+    the first 8; the residual over the proxy is no longer exact (the proxy is not
+    quadratic), and the page states both studies."""
+    from adobe_bsdf.tables import dielectric_grid as grid
+    from adobe_bsdf.tables.dielectric_slices import layout
+
+    rng = np.random.default_rng(1)
+    for half, axes in grid.HALVES.items():
+        n = sum(int(np.prod(p.table.spec.shape[:-1]))
+                for p in layout(0.3, 0.3, 1.2 if half == "below" else 2.0))
+        c = rng.uniform(-0.01, 0.01, size=(10, n))
+        c[0] += 0.5
+        Q = np.meshgrid(*[a.nodes() for a in axes], indexing="ij")
+        basis = np.stack([np.ones_like(Q[0]), *Q, Q[0] * Q[0], Q[1] * Q[1], Q[2] * Q[2],
+                          Q[0] * Q[1], Q[0] * Q[2], Q[1] * Q[2]], -1)
+        E = np.einsum("abcj,jn->abcn", basis, c)
+        values = np.stack([0.25 * E, 0.75 * E], -1)
+        for k in range(axes[2].n):
+            grid.write_column(tmp_path, half, k, values[:, :, k])
+    studies = ac.grid_studies(tmp_path)
+    for half, b in studies["basis"].items():
+        errors = dict(b["errors"])
+        assert errors[16] < 1e-4 < errors[8], (half, errors)  # 1e-4: the stored rounding
+    rows = studies["residual"]
+    assert {(h, a) for h, a, _, _ in rows} >= {("below", "alpha"), ("below", "eta"),
+                                               ("above", "ratio")}
+    for *_, r in rows:
+        assert max(r["E"]) < 1e-4 and max(r["residual"]) > max(r["E"])
+    page = "\n".join(ac._grid_study_lines(studies))
+    assert "### One reduced basis" in page and "| below sqrt 2 | alpha |" in page

@@ -22,13 +22,13 @@ Public API
 The grid is stored one column a file (``write_column``, ``encode``): an interface reads the
 four columns about its index ratio, and a bake that stops keeps what it finished.
 
-Why a grid of slices (``docs/anisotropic_candidates_measured.md``): node for node, a slice's
-values (in coordinates aligned with the critical angle and the kinks of a nearly
-one-dimensional surface) are smooth in the interface (alpha, ratio, eta), and cubic
-convolution across neighbouring slices at a log step of 0.3 per axis misses by at most
-7.2e-4; the isotropic proxies miss by up to 0.37, a residual over the projected roughness is
-no smoother on the dense side, and one reduced basis for the whole grid misses held-out
-slices by 0.1.
+Why a grid of slices (measured in ``docs/anisotropic_candidates_measured.md``): node for
+node, a slice's values (in coordinates aligned with the critical angle and the kinks of a
+nearly one-dimensional surface) are smooth in the interface (alpha, ratio, eta), so cubic
+convolution across neighbouring slices at a log step of 0.3 per axis is accurate; the
+isotropic proxies are far off, a residual over the isotropic energy at the projected
+roughness is no smoother on the dense side, and one reduced basis for a whole half of the
+grid needs a high rank (that page's last sections, measured on this grid).
 
 Axes, each uniform in q = ln(x + offset) at a step of at most ``STEP``:
 
