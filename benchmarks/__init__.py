@@ -3,6 +3,7 @@ measured pages of ``docs/``."""
 
 import argparse
 import datetime
+import re
 import time
 from pathlib import Path
 
@@ -28,6 +29,17 @@ def write_page(out: Path | None, name: str, compute, markdown) -> Path:
     path = docs / name
     path.write_text(markdown(*parts, time.perf_counter() - start), encoding="utf-8")
     return path
+
+
+def with_block(text: str, name: str, block: str) -> str:
+    """``text`` (a hand-written page) with its measured block ``name`` replaced by ``block``:
+    the lines between ``<!-- measured: NAME ... -->`` and ``<!-- end measured -->``
+    (``ValueError`` where the page has no such block)."""
+    pattern = re.compile(rf"(<!-- measured: {re.escape(name)}\b.*?-->\n).*?"
+                         r"(<!-- end measured -->)", re.S)
+    if not pattern.search(text):
+        raise ValueError(f"the page has no <!-- measured: {name} --> block")
+    return pattern.sub(lambda m: m.group(1) + block.rstrip("\n") + "\n" + m.group(2), text)
 
 
 def report_main(run, description: str, argv=None, options=()) -> int:

@@ -13,6 +13,8 @@ azimuth): E_R + E_T and E_R, max and RMS, and the hemispherical averages that th
 Kulla-Conty terms divide by. ``--grid DIR`` measures a baked grid (the folder ``bake
 ggx_dielectric_anisotropic --out DIR`` writes) instead of the shipped one.
 
+Run without ``--out``, it also rewrites the summary block of ``docs/energy_models.md``.
+
 Cost (one thread, the same batch, alternating rounds, the best of each): ``eval`` and
 ``sample`` of an anisotropic ``DielectricMS`` and of white translucent and opaque
 anisotropic ASM dielectrics against their isotropic counterparts; the first use in a fresh
@@ -31,7 +33,7 @@ import numpy as np
 
 from adobe_bsdf.tables import dielectric_grid
 from adobe_bsdf.tables.dielectric_slices import dielectric_slice
-from benchmarks import generated_by, machine, report_main, write_page
+from benchmarks import DOCS, generated_by, machine, report_main, with_block, write_page
 
 NAME = "anisotropic_grid_measured.md"
 SEED = 20261207
@@ -222,8 +224,42 @@ def markdown(result: dict, seconds: float) -> str:
     return "\n".join(out) + "\n"
 
 
+#: the page whose measured block ``summary`` rewrites, and the block's name
+SUMMARY_PAGE, SUMMARY = "energy_models.md", "anisotropic_grid"
+
+
+def summary(result: dict) -> str:
+    """The block of ``SUMMARY_PAGE``: the held-out errors (max and RMS per side), the file
+    size, the cost against isotropic lobes and the first use."""
+    rows = result["rows"]
+    out = [f"Measured against the exact mode at {result['n_random']} held-out interfaces and "
+           f"{len(rows) - result['n_random']} extremes, {DIRECTIONS} random directions per "
+           f"side each ([{NAME}]({NAME})):", "",
+           "| E_R + E_T seen from | max error | RMS error |", "|---|---|---|"]
+    for side in ("light", "dense"):
+        worst, rms = _stats([r[side] for _, r in rows])
+        out.append(f"| the {side} side | {worst:.1e} | {rms:.1e} |")
+    out += ["", f"The grid's files: {result['bytes'] / 2**20:.2f} MB."]
+    if "costs" in result:
+        out[-1] += (" Cost against the isotropic counterparts, `eval` / `sample`: "
+                    + "; ".join(f"{name} {e:.2f}× / {s:.2f}×"
+                                for name, e, s in result["costs"])
+                    + f". First use in a fresh process: {result['first_use']:.2f} s.")
+    return "\n".join(out) + "\n"
+
+
 def run(out: Path | None = None, smoke: bool = False, grid: Path | None = None) -> Path:
-    return write_page(out, NAME, lambda: (measure(smoke, grid),), markdown)
+    result = {}
+
+    def compute():
+        result.update(measure(smoke, grid))
+        return (result,)
+    path = write_page(out, NAME, compute, markdown)
+    if out is None:  # the docs themselves: their summary too
+        page = DOCS / SUMMARY_PAGE
+        page.write_text(with_block(page.read_text(encoding="utf-8"), SUMMARY,
+                                   summary(result)), encoding="utf-8")
+    return path
 
 
 def main(argv=None) -> int:

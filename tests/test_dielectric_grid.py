@@ -209,3 +209,13 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
     page = anisotropic_grid.markdown(result, 1.0)
     assert "| light (E_R + E_T unless named) |" in page and grid.NAME in page
     assert "## The bake" in page and "| 128 |" in page
+    from benchmarks import with_block
+    text = "intro\n<!-- measured: anisotropic_grid (written by x) -->\nold\n" \
+           "<!-- end measured -->\nafter\n"
+    new = with_block(text, anisotropic_grid.SUMMARY, anisotropic_grid.summary(result))
+    assert "old" not in new and new.startswith("intro\n<!-- measured") and new.endswith(
+        "<!-- end measured -->\nafter\n")
+    worst = max(np.abs(r["light"]).max() for _, r in result["rows"])
+    assert f"| the light side | {worst:.1e} |" in new
+    with pytest.raises(ValueError, match="no <!-- measured: anisotropic_grid"):
+        with_block("no block", anisotropic_grid.SUMMARY, "x")
