@@ -7,8 +7,9 @@ Layers, each importing only those below it (``docs/architecture.md``): core math
 ``layered`` (the stochastic layered reference) beside ``materials``; ``validation``,
 ``render``, ``plot``, ``paper_figures``, ``explorer`` (``explore``: sliders from a parameter
 specification, in Jupyter) and the command line beside them.
-The validation toolkit and the MaterialX reader are imported on their own:
-``import adobe_bsdf.validation``, ``import adobe_bsdf.io``.
+The validation toolkit, the conformance of a BSDF written elsewhere and the MaterialX reader
+are imported on their own: ``import adobe_bsdf.validation``, ``import adobe_bsdf.conformance``,
+``import adobe_bsdf.io``.
 """
 
 from adobe_bsdf import (

@@ -39,6 +39,15 @@ Consistency checks (``validation.checks``)
 ``mc_albedo_consistency(lobe, wo, *, n_samples, seed, alpha, n_tests, rtol)``
     Monte Carlo albedo against quadrature albedo, in standard errors.
 
+Candidates written elsewhere (``validation.candidate``)
+
+``Candidate``                a ``typing.Protocol``: ``eval(wo, wi)``, ``pdf(wo, wi)``,
+                             ``sample(wo, u) -> (wi, weight, pdf)`` in the library's
+                             conventions; every check above takes one where it takes a lobe.
+``FunctionCandidate``        a candidate of three functions.
+``CandidateLobe``, ``as_lobe``  a candidate as a ``Lobe`` (what the checks do with it).
+``CandidateError``           a candidate's method raised or answered with the wrong shape.
+
 Property-test inputs (``validation.strategies``, needs ``hypothesis``; not imported here)
 
 ``directions``, ``direction_pairs``, ``roughness``, ``alpha_pairs``, ``iors``,
@@ -54,6 +63,13 @@ References
 [Veach1997, §5.3] reciprocity of BSDFs with refraction.
 """
 
+from adobe_bsdf.validation.candidate import (
+    Candidate,
+    CandidateError,
+    CandidateLobe,
+    FunctionCandidate,
+    as_lobe,
+)
 from adobe_bsdf.validation.checks import (
     FurnaceResult,
     McAlbedoResult,
@@ -81,6 +97,11 @@ from adobe_bsdf.validation.chi2 import (
 )
 
 __all__ = [
+    "Candidate",
+    "CandidateError",
+    "CandidateLobe",
+    "FunctionCandidate",
+    "as_lobe",
     "CellIntegral",
     "Chi2Result",
     "Draws",

@@ -30,6 +30,7 @@ from scipy import stats
 
 from adobe_bsdf import _params
 from adobe_bsdf.bsdf import ALBEDO_METHODS, Flags, Lobe
+from adobe_bsdf.validation.candidate import as_lobe
 from adobe_bsdf.validation.chi2 import (
     SphereGrid,
     classify_samples,
@@ -183,6 +184,7 @@ def pdf_integral(
     -------
     PdfIntegralResult
     """
+    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
     wo = _params.direction("wo", wo)
     if wo.shape != (3,):
         raise ValueError(f"wo has shape {wo.shape}; pdf_integral takes one direction of shape (3,)")
@@ -287,6 +289,7 @@ def reciprocity_error(
     -------
     ReciprocityResult
     """
+    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
     wo = _params.direction("wo", wo)
     wi = _params.direction("wi", wi)
     try:
@@ -401,6 +404,7 @@ def weight_consistency(
     -------
     WeightConsistencyResult
     """
+    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
     wo = _params.direction("wo", wo)
     rtol = float(_params.real("rtol", rtol, 0.0))
     draws = draw_samples(lobe, wo, n_samples, seed) if u is None else classify_samples(lobe, wo, u)
@@ -497,6 +501,7 @@ def furnace(
     -------
     FurnaceResult
     """
+    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
     method = _params.choice("method", method, ALBEDO_METHODS)
     tol = float(_params.real("tol", tol, 0.0))
     value, error = lobe.albedo(wo, method=method, return_error=True, **albedo_options)
@@ -581,6 +586,7 @@ def mc_albedo_consistency(
     -------
     McAlbedoResult
     """
+    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
     rtol = float(_params.real("rtol", rtol, 0.0))
     mc, mc_error = lobe.albedo(wo, method="mc", n_samples=n_samples, rng=seed, return_error=True)
     quad, quad_error = lobe.albedo(wo, method="quadrature", return_error=True)

@@ -59,6 +59,7 @@ from adobe_bsdf.quadrature import (
     _unit_axis,
     integrate_cells,
 )
+from adobe_bsdf.validation.candidate import as_lobe
 
 __all__ = [
     "Chi2Result",
@@ -294,6 +295,7 @@ def chi2_test(
     statistic's standard deviation ``sqrt(2 dof)``, about 128: the integration error is
     negligible beside the statistical error.
     """
+    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
     start = time.perf_counter()
     wo = _params.direction("wo", wo)
     if wo.shape != (3,):

@@ -1,0 +1,211 @@
+"""``adobe_bsdf.conformance``: a candidate written elsewhere judged against the library.
+
+The candidate here is a GGX conductor written for the test from the papers (anisotropic
+D and height-correlated Smith masking [Heitz2014, eqs. 85-86, 99], visible-normal sampling
+[Heitz2018, Listing 1]), not from the library's code: correct, it conforms to
+``lobes.Conductor``; each deliberate fault fails the check that should catch it.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from adobe_bsdf import lobes, validation
+from adobe_bsdf.conformance import (
+    CandidateError,
+    FunctionCandidate,
+    Report,
+    as_lobe,
+    assert_conforms,
+    compare,
+)
+
+ALPHA_X, ALPHA_Y = 0.3, 0.1
+N = 100_000
+
+
+class HandGGX:
+    """An anisotropic GGX conductor with a constant Fresnel, and optional faults."""
+
+    name = "hand-written GGX"
+
+    def __init__(self, fresnel=1.0, pdf_scale=1.0, fold=False, isotropic_sampler=False,
+                 nan_grazing=False, nonreciprocal=False):
+        self.fresnel, self.pdf_scale, self.fold = fresnel, pdf_scale, fold
+        self.isotropic_sampler, self.nan_grazing = isotropic_sampler, nan_grazing
+        self.nonreciprocal = nonreciprocal
+
+    @staticmethod
+    def _lambda(w, ax, ay):
+        a2 = (ax * ax * w[..., 0] ** 2 + ay * ay * w[..., 1] ** 2) / w[..., 2] ** 2
+        return 0.5 * (np.sqrt(1.0 + a2) - 1.0)
+
+    @staticmethod
+    def _D(m, ax, ay):
+        t = (m[..., 0] / ax) ** 2 + (m[..., 1] / ay) ** 2 + m[..., 2] ** 2
+        return 1.0 / (np.pi * ax * ay * t * t)
+
+    def _f(self, wo, wi):
+        up = (wo[..., 2] > 0) & (wi[..., 2] > 0)
+        h = wo + wi
+        h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-300)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            G2 = 1.0 / (1.0 + self._lambda(wo, ALPHA_X, ALPHA_Y)
+                        + self._lambda(wi, ALPHA_X, ALPHA_Y))
+            f = self.fresnel * self._D(h, ALPHA_X, ALPHA_Y) * G2 / (
+                4.0 * wo[..., 2] * wi[..., 2])
+        return np.where(up, f, 0.0)
+
+    def _pdf(self, wo, wi, ax, ay):
+        up = (wo[..., 2] > 0) & (wi[..., 2] > 0)
+        h = wo + wi
+        h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-300)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            G1 = 1.0 / (1.0 + self._lambda(wo, ax, ay))
+            p = G1 * self._D(h, ax, ay) / (4.0 * wo[..., 2])
+        return np.where(up, p * self.pdf_scale, 0.0)
+
+    def eval(self, wo, wi):
+        f = self._f(wo, wi)
+        if self.fold:
+            f = f * np.abs(wi[..., 2])
+        if self.nonreciprocal:
+            f = f * (1.0 + 0.2 * (wo[..., 2] - wi[..., 2]))
+        if self.nan_grazing:
+            f = np.where(np.abs(wi[..., 2]) < 0.02, np.nan, f)
+        return f  # grey: the library widens it
+
+    def pdf(self, wo, wi):
+        return self._pdf(wo, wi, ALPHA_X, ALPHA_Y)
+
+    def sample(self, wo, u):
+        ax, ay = ((np.sqrt(ALPHA_X * ALPHA_Y),) * 2 if self.isotropic_sampler
+                  else (ALPHA_X, ALPHA_Y))
+        # [Heitz2018]: the hemisphere configuration, the projected disk, back
+        v = np.stack([ax * wo[..., 0], ay * wo[..., 1], wo[..., 2]], -1)
+        v /= np.linalg.norm(v, axis=-1, keepdims=True)
+        lensq = v[..., 0] ** 2 + v[..., 1] ** 2
+        t1 = np.where(lensq[..., None] > 0,
+                      np.stack([-v[..., 1], v[..., 0], np.zeros_like(lensq)], -1)
+                      / np.sqrt(np.where(lensq > 0, lensq, 1.0))[..., None],
+                      np.array([1.0, 0.0, 0.0]))
+        t2 = np.cross(v, t1)
+        r, phi = np.sqrt(u[..., 1]), 2.0 * np.pi * u[..., 2]
+        p1, p2 = r * np.cos(phi), r * np.sin(phi)
+        s = 0.5 * (1.0 + v[..., 2])
+        p2 = (1.0 - s) * np.sqrt(1.0 - p1 * p1) + s * p2
+        n = (p1[..., None] * t1 + p2[..., None] * t2
+             + np.sqrt(np.maximum(0.0, 1.0 - p1 * p1 - p2 * p2))[..., None] * v)
+        m = np.stack([ax * n[..., 0], ay * n[..., 1], np.maximum(1e-12, n[..., 2])], -1)
+        m /= np.linalg.norm(m, axis=-1, keepdims=True)
+        wi = 2.0 * np.sum(wo * m, -1, keepdims=True) * m - wo
+        pdf = self._pdf(wo, wi, ax, ay)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            weight = np.where(pdf > 0, self._f(wo, wi) * np.abs(wi[..., 2]) / pdf, 0.0)
+        return wi, weight, pdf
+
+
+REFERENCE = lobes.Conductor(ALPHA_X, ALPHA_Y)
+
+
+def _failed(report: Report) -> set:
+    return {c.name for c in report.checks if c.passed is False}
+
+
+def test_a_correct_candidate_conforms():
+    """Written independently from the papers, it passes every check."""
+    report = compare(REFERENCE, HandGGX(), n_samples=N)
+    assert report.passed, str(report)
+    assert {c.name for c in report.checks} == {
+        "finite", "eval", "pdf", "weight", "chi2 (own pdf)", "chi2 (reference pdf)",
+        "albedo", "reciprocity"}
+    assert all(c.passed for c in report.checks)
+
+
+@pytest.mark.parametrize("fault, kwargs, catches, cause", [
+    ("Fresnel 3 % low", dict(fresnel=0.97), {"eval", "albedo"}, "0.97 x reference"),
+    ("pdf 5 % high", dict(pdf_scale=1.05), {"pdf", "chi2 (own pdf)", "albedo"}, ""),
+    ("cosine folded into f", dict(fold=True), {"eval", "weight"}, "cosine folded in"),
+    ("non-reciprocal f", dict(nonreciprocal=True), {"reciprocity"}, ""),
+    ("NaN at grazing angles", dict(nan_grazing=True), {"finite"}, "grazing"),
+    ("sampler ignores anisotropy", dict(isotropic_sampler=True),
+     {"chi2 (own pdf)", "chi2 (reference pdf)"}, ""),
+])
+def test_a_deliberate_fault_fails_its_check(fault, kwargs, catches, cause):
+    report = compare(REFERENCE, HandGGX(**kwargs), n_samples=N)
+    assert not report.passed, fault
+    failed = _failed(report)
+    assert catches <= failed, (fault, failed)
+    if cause:
+        assert any(cause in c.cause for c in report.checks if c.passed is False), str(report)
+
+
+def test_the_report_reads_as_table_markdown_and_json():
+    report = compare(REFERENCE, HandGGX(fresnel=0.97), n_samples=20_000)
+    text = str(report)
+    assert "DOES NOT CONFORM" in text and "eval" in text and "FAIL" in text
+    assert report.markdown().count("\n| ") == len(report.checks) + 1
+    data = json.loads(report.to_json())
+    assert data["passed"] is False
+    assert {t["name"] for t in data["tests"] if t["verdict"] == "FAIL"} == _failed(report)
+    with pytest.raises(AssertionError, match="(?s)eval.*FAIL.*0.97 x reference"):
+        assert_conforms(REFERENCE, HandGGX(fresnel=0.97), n_samples=20_000)
+    assert assert_conforms(REFERENCE, HandGGX(), n_samples=20_000).passed
+
+
+def test_another_sampling_strategy_is_not_held_to_the_reference_pdf():
+    """Cosine-weighted sampling of a correct f: with ``same_sampling=False`` its pdf and
+    samples are checked against its own pdf only."""
+    hand = HandGGX()
+
+    def sample(wo, u):
+        r, phi = np.sqrt(u[..., 1]), 2.0 * np.pi * u[..., 2]
+        wi = np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(1.0 - u[..., 1])], -1)
+        pdf = wi[..., 2] / np.pi
+        return wi, hand.eval(wo, wi) * np.pi, pdf
+
+    cosine = FunctionCandidate(hand.eval, lambda wo, wi: np.where(
+        (wo[..., 2] > 0) & (wi[..., 2] > 0), wi[..., 2] / np.pi, 0.0), sample, "cosine")
+    report = compare(REFERENCE, cosine, n_samples=N, same_sampling=False)
+    assert report.passed, str(report)
+    assert {c.name for c in report.checks if c.passed is None} == {
+        "pdf", "chi2 (reference pdf)"}
+    assert not compare(REFERENCE, cosine, n_samples=20_000).passed
+
+
+def test_a_candidate_that_raises_or_answers_wrongly_is_reported():
+    hand = HandGGX()
+    broken = FunctionCandidate(hand.eval, hand.pdf, lambda wo, u: (wo[..., :2], 1.0, 1.0),
+                               "wrong shape")
+    report = compare(REFERENCE, broken, n_samples=20_000)
+    assert not report.passed
+    assert "sample() returned directions of shape" in report.checks[-1].cause
+
+    def fails(wo, wi):
+        raise RuntimeError("device lost")
+    report = compare(REFERENCE, FunctionCandidate(fails, hand.pdf, hand.sample, "raises"),
+                     n_samples=20_000)
+    assert "eval() of" in report.checks[-1].cause and "device lost" in report.checks[-1].cause
+    with pytest.raises(ValueError, match="no method eval"):
+        as_lobe(object())
+    with pytest.raises(CandidateError, match="not numbers"):
+        as_lobe(FunctionCandidate(lambda wo, wi: "x", hand.pdf, hand.sample)).eval(
+            np.array([0, 0, 1.0]), np.array([0, 0, 1.0]))
+
+
+def test_every_validation_check_takes_a_candidate():
+    """No subclassing: the toolkit's checks run on an object with eval, pdf and sample."""
+    hand = HandGGX()
+    wo = np.array([0.3, 0.2, np.sqrt(0.87)])
+    assert validation.chi2_test(hand, wo, n_samples=N).passed
+    assert validation.weight_consistency(hand, wo, n_samples=20_000).passed
+    assert validation.pdf_integral(hand, wo, expected=None, tol=1e-3).passed
+    pairs = np.random.default_rng(3).normal(size=(2, 200, 3))
+    pairs /= np.linalg.norm(pairs, axis=-1, keepdims=True)
+    pairs[..., 2] = np.abs(pairs[..., 2])
+    assert validation.reciprocity_error(hand, *pairs).passed
+    E = REFERENCE.albedo(wo, method="quadrature", tol=1e-6)[..., 0]
+    assert validation.furnace(hand, wo, E, method="quadrature", tol=1e-4).passed
+    assert validation.mc_albedo_consistency(hand, wo, n_samples=N).passed
+    assert not validation.chi2_test(HandGGX(isotropic_sampler=True), wo, n_samples=N).passed
