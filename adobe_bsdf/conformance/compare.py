@@ -123,10 +123,17 @@ def _finite_check(wo, wi, f, pdf, samples) -> Check:
                  cause=(note + (f" ({cause})" if cause else "")) if total else "")
 
 
-def _pointwise(name: str, reference, candidate, wo, wi, views, rtol: float) -> Check:
-    """Relative error of ``candidate`` against ``reference`` (``(n, k)``) at the pairs."""
+def _pointwise(name: str, reference, candidate, wo, wi, views, rtol: float,
+               keep=None) -> Check:
+    """Relative error of ``candidate`` against ``reference`` (``(n, k)``) at the pairs
+    (those of ``keep`` only, where given: the others are named in the note)."""
     r = np.atleast_2d(np.asarray(reference, dtype=np.float64).reshape(len(wo), -1))
     c = np.atleast_2d(np.asarray(candidate, dtype=np.float64).reshape(len(wo), -1))
+    note = ""
+    if keep is not None and not keep.all():
+        note = (f"{int((~keep).sum())} of {len(keep)} pairs ill-conditioned in float32 left "
+                "out (validation.mitsuba.well_conditioned)")
+        r, c, wo, wi = r[keep], c[keep], wo[keep], wi[keep]
     view_index = _view_index(wo, views)
     peak = np.zeros((len(views), r.shape[1]))
     np.maximum.at(peak, view_index, np.abs(np.nan_to_num(r)))
@@ -139,7 +146,7 @@ def _pointwise(name: str, reference, candidate, wo, wi, views, rtol: float) -> C
     where = {"view": _view(wo[row]), "wi": tuple(float(x) for x in wi[row]),
              "reference": float(r[k]), "candidate": float(c[k])}
     return Check(name, worst <= rtol, "max relative error", worst, rtol, worst=where,
-                 cause="" if worst <= rtol else _cause(name, r, c, wo, wi, floor))
+                 cause="" if worst <= rtol else _cause(name, r, c, wo, wi, floor), note=note)
 
 
 def _view_index(wo, views) -> np.ndarray:
@@ -273,12 +280,18 @@ def _albedo_check(reference: Lobe, candidate: Lobe, views, n_samples: int, alpha
                  note=f"{n_samples} samples per view each; z-test at {alpha:g} (Šidák)")
 
 
-def _reciprocity_check(reference: Lobe, candidate: Lobe, wo, wi, rtol: float) -> Check:
-    ref = reciprocity_error(reference, wo, wi, rtol=1e-6, atol=1e-12)
+def _reciprocity_check(reference: Lobe, candidate: Lobe, wo, wi, rtol: float,
+                       scale: float, keep=None) -> Check:
+    """Generalized reciprocity at the pairs (of ``keep``), values below ``FLOOR`` x
+    ``scale`` (the reference's largest f) compared absolutely, as the pointwise checks do."""
+    atol = FLOOR * scale
+    if keep is not None:
+        wo, wi = wo[keep], wi[keep]
+    ref = reciprocity_error(reference, wo, wi, rtol=1e-6, atol=atol)
     if not ref.passed:
         return Check("reciprocity", None, "max relative error", None, rtol,
                      note=f"the reference is not reciprocal ({ref.max_error:.2g})")
-    cand = reciprocity_error(candidate, wo, wi, rtol=rtol, atol=1e-12)
+    cand = reciprocity_error(candidate, wo, wi, rtol=rtol, atol=atol)
     return Check("reciprocity", cand.passed, "max relative error", float(cand.max_error),
                  rtol, worst={"wo": tuple(float(x) for x in cand.worst_wo),
                               "wi": tuple(float(x) for x in cand.worst_wi)},
@@ -287,7 +300,8 @@ def _reciprocity_check(reference: Lobe, candidate: Lobe, wo, wi, rtol: float) ->
 
 def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
             alpha: float = 0.01, rtol: float = 1e-3, albedo_atol: float = 2e-3,
-            same_sampling: bool = True, seed: int = 0, progress: bool = False) -> Report:
+            same_sampling: bool = True, float32: bool = False, seed: int = 0,
+            progress: bool = False) -> Report:
     """Judge ``candidate`` (a ``Candidate``: ``eval``, ``pdf``, ``sample`` in the library's
     conventions) against ``reference`` (a lobe or material of the library).
 
@@ -307,6 +321,12 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         Whether the candidate samples the reference's distribution (as two VNDF samplers
         do): then its ``pdf`` and its samples are held to the reference's; otherwise those
         two checks do not apply.
+    float32 : bool
+        The candidate computes in float32 (a GPU, Mitsuba's scalar variants): the pairs are
+        float32 directions (``validation.mitsuba.float32_directions``), and those where
+        float32 is ill-conditioned (``validation.mitsuba.well_conditioned``: near the
+        critical angle, grazing microfacets, horizons) are left out of the pointwise and
+        reciprocity checks, their count stated.
     seed : int
         Seed of every random choice (pairs, uniforms).
     progress : bool
@@ -324,6 +344,13 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         np.asarray(views, dtype=np.float64))
     rng = np.random.default_rng(seed)
     wo, wi = _pairs(views, rng)
+    keep = None
+    if float32:
+        from adobe_bsdf.validation.mitsuba import float32_directions, well_conditioned
+
+        wo, wi = float32_directions(wo), float32_directions(wi)
+        eta = getattr(ref, "eta", None)
+        keep = well_conditioned(wo, wi, None if eta is None else float(np.max(eta)))
     checks = []
     steps = ["pointwise", "samples", "chi2", "albedo", "reciprocity"]
     bar = tqdm(steps, desc="conformance", disable=not progress, leave=False)
@@ -333,9 +360,9 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         bar.update()
         samples = _draw(cand, views, min(n_samples, 20_000), rng)
         checks.append(_finite_check(wo, wi, f_c, pdf_c, samples))
-        checks.append(_pointwise("eval", f_r, f_c, wo, wi, views, rtol))
+        checks.append(_pointwise("eval", f_r, f_c, wo, wi, views, rtol, keep))
         if same_sampling:
-            checks.append(_pointwise("pdf", pdf_r, pdf_c, wo, wi, views, rtol))
+            checks.append(_pointwise("pdf", pdf_r, pdf_c, wo, wi, views, rtol, keep))
         else:
             checks.append(Check("pdf", None, "max relative error", note="same_sampling "
                                 "is False: the candidate's own strategy"))
@@ -352,14 +379,16 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         checks.append(_albedo_check(ref, cand, views, n_samples, alpha, albedo_atol,
                                     seed + 2000))
         bar.update()
-        checks.append(_reciprocity_check(ref, cand, wo, wi, rtol))
+        scale = float(np.nanmax(np.abs(f_r))) if np.size(f_r) else 1.0
+        checks.append(_reciprocity_check(ref, cand, wo, wi, rtol, scale, keep))
         bar.update()
     except CandidateError as exc:
         checks.append(Check("candidate", False, "error", cause=str(exc)))
     finally:
         bar.close()
     settings = {"views": len(views), "n_samples": n_samples, "alpha": alpha, "rtol": rtol,
-                "albedo_atol": albedo_atol, "same_sampling": same_sampling, "seed": seed}
+                "albedo_atol": albedo_atol, "same_sampling": same_sampling, "float32": float32,
+                "seed": seed}
     return Report(repr(reference), _name(candidate), checks, settings)
 
 

@@ -89,6 +89,8 @@ them.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 __all__ = [
@@ -118,6 +120,10 @@ MIN_COS2_T = 1e-1
 #: largest ``|1 - |w|^2| / min(|wo.m|, |wi.m|)^2`` for ``w = wo, wi``, in ``well_conditioned``
 #: (how much a float32 vector's deviation from unit length is amplified)
 MAX_UNIT_DEFECT = 1e-6
+
+
+#: the index of Mitsuba's "air", its default ``ext_ior``
+MITSUBA_AIR = 1.000277
 
 
 def _mitsuba():
@@ -167,12 +173,14 @@ def float32_directions(w) -> np.ndarray:
 
 
 class MitsubaBSDF:
-    """A Mitsuba ``scalar_rgb`` BSDF plugin behind ``adobe_bsdf``'s ``eval``/``pdf`` protocol.
+    """A Mitsuba ``scalar_rgb`` BSDF plugin behind ``adobe_bsdf``'s ``eval``/``pdf``/``sample``
+    protocol (a ``validation.Candidate``).
 
     Parameters
     ----------
-    plugin : dict
-        Mitsuba scene dictionary of the BSDF, passed to ``mitsuba.load_dict``.
+    plugin : dict or str
+        Mitsuba scene dictionary of the BSDF, passed to ``mitsuba.load_dict``, or its XML
+        (``<bsdf type="roughconductor">...</bsdf>``), passed to ``mitsuba.load_string``.
 
     Attributes
     ----------
@@ -186,10 +194,59 @@ class MitsubaBSDF:
     See the module docstring for the conversion between the two libraries' conventions.
     """
 
-    def __init__(self, plugin: dict):
+    def __init__(self, plugin):
         mi = _mitsuba()
         self.plugin = plugin
-        self.bsdf = mi.load_dict(plugin)
+        if isinstance(plugin, str):
+            xml = plugin.strip()
+            if "version=" not in xml.split(">", 1)[0]:  # the root element needs a version
+                xml = re.sub(r"^<(\w+)", r'<\1 version="3.0.0"', xml, count=1)
+            try:
+                self.bsdf = mi.load_string(xml)
+            except Exception as exc:  # Mitsuba's parser: say which plugin text failed
+                raise ValueError(f"plugin = {plugin!r}: Mitsuba could not load it: "
+                                 f"{exc}") from None
+            found = re.search(r'type="(\w+)"', xml)
+            kind = found.group(1) if found else "bsdf"
+            indices = {k: float(v) for k, v in re.findall(
+                r'name="(int_ior|ext_ior)"\s+value="([0-9.eE+-]+)"', xml)}
+        elif isinstance(plugin, dict):
+            self.bsdf = mi.load_dict(plugin)
+            kind = plugin.get("type", "bsdf")
+            indices = {k: plugin[k] for k in ("int_ior", "ext_ior")
+                       if isinstance(plugin.get(k), (int, float))}
+        else:
+            raise ValueError(f"plugin = {plugin!r}: allowed a Mitsuba plugin dictionary or "
+                             "its XML string")
+        self.name = f"Mitsuba {kind}"
+        #: n_below / n_above where the plugin states its inner index as a number (its outer
+        #: one defaults to Mitsuba's "air", ``MITSUBA_AIR``)
+        self.eta = (float(indices["int_ior"]) / float(indices.get("ext_ior", MITSUBA_AIR))
+                    if "int_ior" in indices else None)
+
+    def __repr__(self) -> str:
+        return f"MitsubaBSDF({self.plugin!r})"
+
+    def sample(self, wo, u):
+        """``(wi, weight, pdf)`` of Mitsuba's ``sample`` from uniforms ``u`` ``(..., 3)``
+        (``u[..., 0]`` its 1-D sample, ``u[..., 1:]`` its 2-D one): the weight is Mitsuba's
+        (f |cos| / pdf in its radiance mode, our convention), 0 where it failed."""
+        mi = _mitsuba()
+        wo = np.asarray(wo, dtype=np.float64).astype(np.float32).astype(np.float64)
+        u = np.asarray(u, dtype=np.float64)
+        wo, u = np.broadcast_arrays(wo, u)
+        ctx = mi.BSDFContext(mi.TransportMode.Radiance)
+        si = mi.SurfaceInteraction3f()
+        n = wo[..., 0].size
+        wi, weight, pdf = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n)
+        rows = zip(wo.reshape(-1, 3).tolist(), u.reshape(-1, 3).tolist(), strict=True)
+        for j, (a, b) in enumerate(rows):
+            si.wi = mi.ScalarVector3f(a)
+            bs, w = self.bsdf.sample(ctx, si, b[0], mi.ScalarPoint2f(b[1], b[2]))
+            if bs.pdf > 0.0 and any(x != 0.0 for x in w):  # else failed: pdf 0 here
+                wi[j], weight[j], pdf[j] = bs.wo, w, bs.pdf
+        shape = wo.shape[:-1]
+        return wi.reshape(shape + (3,)), weight.reshape(shape + (3,)), pdf.reshape(shape)
 
     def eval(self, wo, wi) -> np.ndarray:
         """Radiance-mode BSDF value f(wo, wi) without the cosine factor, RGB ``(..., 3)``.
