@@ -208,7 +208,12 @@ def test_every_validation_check_takes_a_candidate():
     E = REFERENCE.albedo(wo, method="quadrature", tol=1e-6)[..., 0]
     assert validation.furnace(hand, wo, E, method="quadrature", tol=1e-4).passed
     assert validation.mc_albedo_consistency(hand, wo, n_samples=N).passed
-    assert not validation.chi2_test(HandGGX(isotropic_sampler=True), wo, n_samples=N).passed
+    wrong = validation.chi2_test(HandGGX(isotropic_sampler=True), wo, n_samples=N)
+    assert not wrong.passed
+    assert f"p = {wrong.p_value:.3g}" in str(wrong) and "false-alarm rate of 0.01" in str(wrong)
+    folded = validation.weight_consistency(HandGGX(fold=True), wo, n_samples=20_000)
+    assert not folded.passed and "likely cause: eval has the cosine folded in" in str(folded)
+    assert "worst at wo = " in str(folded)
 
 
 def _mitsuba_views():

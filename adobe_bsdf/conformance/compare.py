@@ -29,7 +29,7 @@ from scipy import stats
 from adobe_bsdf.bsdf import Flags, Lobe
 from adobe_bsdf.conformance.report import Check, Report
 from adobe_bsdf.validation.candidate import CandidateError, as_lobe
-from adobe_bsdf.validation.checks import reciprocity_error
+from adobe_bsdf.validation.checks import reciprocity_error, weight_cause
 from adobe_bsdf.validation.chi2 import chi2_test, sidak_alpha
 
 __all__ = ["compare", "assert_conforms", "default_views", "STRATA", "FLOOR"]
@@ -193,20 +193,8 @@ def _weight_check(lobe: Lobe, samples, rtol: float) -> Check:
     worst = np.nan_to_num(np.maximum(error.max(-1), pdf_error), nan=np.inf)
     row = int(np.argmax(worst))
     value = float(worst[row])
-    cause = ""
-    if value > rtol:
-        ratio = np.median((weight / np.where(expected > 0, expected, np.nan))[
-            np.isfinite(weight / np.where(expected > 0, expected, np.nan))].ravel()
-            if np.any(expected > 0) else [np.nan])
-        folded = np.nanmedian(np.abs(weight * cos_i - expected) / np.maximum(expected,
-                                                                             1e-12))
-        if folded < 1e-3:
-            cause = ("weight = f |cos theta_i| / pdf holds only with f / |cos theta_i|: "
-                     "eval has the cosine folded in")
-        elif np.nanmedian(pdf_error) > rtol:
-            cause = "sample()'s pdf differs from pdf() at the sampled directions"
-        elif np.isfinite(ratio) and abs(ratio - 1.0) > rtol:
-            cause = f"weights are {ratio:.4g} x f |cos theta_i| / pdf"
+    cause = ("" if value <= rtol else
+             weight_cause(weight, expected, cos_i, samples["pdf"][ok], pdf, rtol))
     return Check("weight", value <= rtol, "max relative error", value, rtol,
                  worst={"view": _view(wo[row]), "wi": tuple(float(x) for x in wi[row]),
                         "weight": float(weight[row].max()),

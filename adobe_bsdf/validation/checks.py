@@ -349,6 +349,8 @@ class WeightConsistencyResult:
         ``sign(wo.z * wi.z)``.
     worst_wo, worst_wi : ndarray (3,)
         The sample with the largest weight error (NaN if none was checked).
+    cause : str
+        The likely cause of a failure where a simple one fits (``weight_cause``), else "".
     """
 
     passed: bool
@@ -363,12 +365,42 @@ class WeightConsistencyResult:
     n_flag_mismatch: int
     worst_wo: np.ndarray = field(repr=False)
     worst_wi: np.ndarray = field(repr=False)
+    cause: str = ""
 
     def __str__(self) -> str:
-        return (f"sample weights {_verdict(self.passed)}: max relative error weight "
+        text = (f"sample weights {_verdict(self.passed)}: max relative error weight "
                 f"{self.max_weight_error:.2e}, pdf {self.max_pdf_error:.2e} (rtol "
                 f"{self.rtol:.0e}) over {self.n_checked} samples; {self.n_invalid} invalid, "
                 f"{self.n_flag_mismatch} flag mismatches")
+        if not self.passed and np.all(np.isfinite(self.worst_wi)):
+            text += (f"; worst at wo = {np.round(self.worst_wo, 4).tolist()}, wi = "
+                     f"{np.round(self.worst_wi, 4).tolist()}")
+        return f"{text}; likely cause: {self.cause}" if self.cause else text
+
+
+def weight_cause(weight, expected, cos_i, sample_pdf, pdf, rtol: float) -> str:
+    """The likely cause of sample weights that differ from f |cos theta_i| / pdf
+    (``expected``, from the lobe's own ``eval`` and ``pdf``), where a simple one fits:
+    ``eval`` returning f |cos theta_i| (the weights then match with f / |cos theta_i|),
+    a sample pdf that differs from ``pdf()``, or a constant factor; else ""."""
+    weight, expected = np.asarray(weight, float), np.asarray(expected, float)
+    cos_i = np.asarray(cos_i, float).reshape(len(weight), -1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        big = (expected > 0) & np.isfinite(weight) & np.isfinite(expected)
+        if not big.any():
+            return ""
+        folded = np.abs(weight * cos_i - expected)[big] / expected[big]
+        if np.median(folded) < 1e-3:
+            return ("eval has the cosine folded in: the weights are f |cos theta_i| / pdf "
+                    "with f = eval / |cos theta_i|")
+        pdf_error = np.abs(np.asarray(sample_pdf) - np.asarray(pdf)) / np.maximum(
+            np.asarray(pdf), 1e-300)
+        if np.median(pdf_error) > rtol:
+            return "sample()'s pdf differs from pdf() at the sampled directions"
+        ratio = np.median((weight / expected)[big])
+        if np.median(np.abs((weight / expected)[big] - ratio)) < 1e-3 * abs(ratio):
+            return f"the weights are {ratio:.4g} x f |cos theta_i| / pdf everywhere"
+    return ""
 
 
 def weight_consistency(
@@ -425,8 +457,11 @@ def weight_consistency(
     max_weight, max_pdf = _max(weight_errors), _max(pdf_errors)
     worst = int(np.argmax(weight_errors)) if weight_errors.size else None
     nan3 = np.full(3, np.nan)
+    passed = bool(max_weight <= rtol and max_pdf <= rtol and not n_mismatch and not n_invalid)
+    cause = "" if passed else weight_cause(s.weight[live], weight, np.abs(wi_live[:, 2:]),
+                                           s.pdf[live], pdf, rtol)
     return WeightConsistencyResult(
-        passed=bool(max_weight <= rtol and max_pdf <= rtol and not n_mismatch and not n_invalid),
+        passed=passed, cause=cause,
         max_weight_error=max_weight, max_pdf_error=max_pdf, rtol=rtol,
         n_samples=int(live.size), n_checked=int(np.count_nonzero(live)),
         n_delta=int(np.count_nonzero(draws.delta)), n_failed=int(np.count_nonzero(draws.failed)),

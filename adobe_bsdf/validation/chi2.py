@@ -346,7 +346,12 @@ def chi2_test(
     p_value = 0.0 if hard_failure else float(stats.chi2.sf(statistic, dof))
     passed = not hard_failure and p_value >= significance
     if not hard_failure and not passed:
-        messages.append("sampled directions do not follow the pdf")
+        messages.append(
+            f"sampled directions do not follow the pdf: p = {p_value:.3g} is below "
+            f"{significance:.3g}, the threshold of a family of "
+            f"{n_tests} test{'s' if n_tests > 1 else ''} at a false-alarm rate of {alpha:g} "
+            f"(a correct sampler fails this way with probability {alpha:g}; another seed "
+            "tells a false alarm from a fault, which fails again)")
     return Chi2Result(
         passed=passed, p_value=p_value, significance=significance, statistic=float(statistic),
         dof=dof, n_samples=n_samples, n_histogram=wi.shape[0],
