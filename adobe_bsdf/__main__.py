@@ -1,5 +1,5 @@
 """Command line: ``python -m adobe_bsdf check`` validates every registered lobe, ``bake`` bakes
-the energy tables.
+the energy tables, ``conform`` judges a BSDF written elsewhere (``conformance.cli``).
 
 ``check`` runs every case of ``adobe_bsdf.validation.cases`` in its fixed order (the random
 seeds derive from the case's index and the incident angle's index) and measures, per case:
@@ -546,6 +546,9 @@ def _parser(prog: str) -> argparse.ArgumentParser:
     p_check.add_argument("--list", action="store_true", help="list the cases and exit")
     p_check.add_argument("--markdown", metavar="FILE",
                          help="also write the table (full case names) as Markdown to FILE")
+    from adobe_bsdf.conformance.cli import add_parser as add_conform
+
+    add_conform(sub)
     p_bake = sub.add_parser(
         "bake", help="bake the energy tables (or check them)",
         description=textwrap.fill(
@@ -637,6 +640,10 @@ def main(argv=None, prog: str | None = None) -> int:
                           patterns=args.cases, command=command) else 0
     if args.command == "bake":
         return _bake(args, prog)
+    if args.command == "conform":
+        from adobe_bsdf.conformance.cli import run as conform
+
+        return conform(args, prog)
     return 2  # pragma: no cover - argparse enforces the choices
 
 

@@ -257,3 +257,43 @@ def test_mitsuba_dielectric_conforms_from_both_sides_in_float32():
     assert report.passed, str(report)
     assert "ill-conditioned in float32 left out" in next(
         c.note for c in report.checks if c.name == "eval")
+
+
+def test_the_command_line_names_references_and_judges_a_mitsuba_plugin(tmp_path, capsys):
+    """``python -m adobe_bsdf conform``: a reference as words (material, lobe, .mtlx, check
+    case), a Mitsuba candidate, the table printed, markdown and JSON written, exit 0 where
+    it conforms, 1 where not, 2 with a one-line error for what it cannot read."""
+    pytest.importorskip("mitsuba")
+    from adobe_bsdf.__main__ import main
+    from adobe_bsdf.conformance.cli import reference_from_words
+    from adobe_bsdf.materials import AdobeStandardMaterial, OpenPBRSurface
+
+    asm = reference_from_words(["ASM", "roughness=0.3", "metallic=1", "base_color=1,0.5,0.2"])
+    assert isinstance(asm, AdobeStandardMaterial) and float(asm.params["roughness"]) == 0.3
+    assert isinstance(reference_from_words(["OpenPBR", "coat_weight=1"]), OpenPBRSurface)
+    lobe = reference_from_words(["Conductor", "alpha_x=0.3", "alpha_y=0.1",
+                                 "masking=separable"])
+    assert lobe.distribution.masking == "separable"
+    assert reference_from_words(["Conductor a=0.1 F=1"]) is not None  # a check case
+    plugin = json.dumps({"type": "roughconductor", "distribution": "ggx", "alpha_u": ALPHA_X,
+                         "alpha_v": ALPHA_Y, "eta": {"type": "rgb", "value": [0, 0, 0]},
+                         "k": {"type": "rgb", "value": [1, 1, 1]}})
+    common = ["--candidate", f"mitsuba:{plugin}", "--view", "0.5", "0.3", "--samples",
+              "20000"]
+    code = main(["conform", "Conductor", f"alpha_x={ALPHA_X}", f"alpha_y={ALPHA_Y}",
+                 "masking=separable", *common, "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert code == 0 and "conforms" in out and "chi2 (own pdf)" in out
+    assert json.loads((tmp_path / "report.json").read_text())["passed"] is True
+    assert (tmp_path / "report.md").read_text().startswith("# Mitsuba roughconductor")
+    assert main(["conform", "Conductor", f"alpha_x={ALPHA_X}", f"alpha_y={ALPHA_Y}",
+                 *common]) == 1  # height-correlated masking: eval differs
+    capsys.readouterr()
+    for words, candidate, says in (
+            (["NoSuchThing"], f"mitsuba:{plugin}", "no material"),
+            (["Conductor", "0.3"], f"mitsuba:{plugin}", "name=value"),
+            (["Conductor", "alpha_x=0.3"], "renderer:x", "allowed mitsuba:JSON"),
+            (["Conductor", "alpha_x=0.3"], "mitsuba:{bad", "not JSON")):
+        assert main(["conform", *words, "--candidate", candidate]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and says in err, err
