@@ -297,3 +297,99 @@ def test_the_command_line_names_references_and_judges_a_mitsuba_plugin(tmp_path,
         assert main(["conform", *words, "--candidate", candidate]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and says in err, err
+
+
+@pytest.mark.parametrize("suffix", [".jsonl", ".npz"])
+def test_the_file_protocol_judges_a_renderers_answers(tmp_path, suffix):
+    """Request written, answered as a renderer would (here by a Python candidate), read
+    back: a correct candidate conforms, a 3 % low Fresnel fails on eval and albedo."""
+    from adobe_bsdf.conformance import answer_request, read_answers, write_request
+
+    request, answers = tmp_path / f"request{suffix}", tmp_path / f"answers{suffix}"
+    write_request(request, REFERENCE, n_samples=20_000)
+    answer_request(request, HandGGX(), answers)
+    report = compare(REFERENCE, read_answers(answers, request))
+    assert report.passed, str(report)
+    assert next(c for c in report.checks if c.name == "chi2 (own pdf)").passed is None
+    answer_request(request, HandGGX(fresnel=0.97), answers)
+    assert {"eval", "albedo"} <= _failed(compare(REFERENCE, read_answers(answers, request)))
+
+
+def test_answer_files_it_cannot_use_are_named_by_line_and_field(tmp_path):
+    from adobe_bsdf.conformance import answer_request, read_answers, write_request
+
+    request, answers = tmp_path / "request.jsonl", tmp_path / "answers.jsonl"
+    write_request(request, REFERENCE, n_samples=2_000, views=[[0.3, 0.2, np.sqrt(0.87)]])
+    answer_request(request, HandGGX(), answers)
+    lines = answers.read_text().splitlines()
+    bad = tmp_path / "bad.jsonl"
+
+    def refused(text, *says):
+        bad.write_text(text)
+        with pytest.raises(ValueError) as info:
+            read_answers(bad, request)
+        for part in says:
+            assert part in str(info.value), str(info.value)
+
+    refused("\n".join(lines[:-10]) + "\n", "bad.jsonl", "unanswered", "truncated")
+    refused("\n".join(lines[:2] + ['{"id": 2, "f": [1, 2], "pdf": 1}'] + lines[3:]),
+            "line 3", "'f'", "list of 3 numbers")
+    refused("\n".join(lines[:4] + ["{not json"] + lines[5:]), "line 5", "not JSON")
+    refused("\n".join(lines + [lines[0]]), "answered twice")
+    last = json.loads(lines[-1])
+    last["wi"] = [0.0, 0.0, 2.0]
+    last["pdf"] = 1.0
+    refused("\n".join(lines[:-1] + [json.dumps(last)]), "off the sphere", "'wi'")
+    npz = tmp_path / "answers.npz"
+    np.savez(npz, eval_f=np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="no array 'eval_pdf'|shape"):
+        read_answers(npz, request)
+    text = request.read_text().splitlines()
+    query = json.loads(text[1])
+    query["wi"] = [0.0, 0.0, 1.0]
+    changed = tmp_path / "changed.jsonl"
+    changed.write_text("\n".join([text[0], json.dumps(query)] + text[2:]) + "\n")
+    with pytest.raises(ValueError, match="the file was changed"):
+        read_answers(answers, changed)
+
+
+def test_the_documented_cpp_answerer_conforms(tmp_path):
+    """The C++ answerer of docs/conformance.md, compiled and run on a request: its GGX
+    conforms to lobes.Conductor."""
+    import re
+    import shutil
+    import subprocess
+    from pathlib import Path
+
+    from adobe_bsdf.conformance import read_answers, write_request
+
+    compiler = shutil.which("g++") or shutil.which("clang++")
+    if compiler is None:
+        pytest.skip("no C++ compiler (g++ or clang++) on this machine")
+    page = (Path(__file__).resolve().parents[1] / "docs" / "conformance.md").read_text()
+    code = re.search(r"<!-- answerer -->\n```cpp\n(.*?)```", page, re.S).group(1)
+    (tmp_path / "answer.cpp").write_text(code)
+    subprocess.run([compiler, "-O2", "-std=c++17", "answer.cpp", "-o", "answer"],
+                   cwd=tmp_path, check=True)
+    request, answers = tmp_path / "request.jsonl", tmp_path / "answers.jsonl"
+    write_request(request, REFERENCE, n_samples=20_000)
+    with request.open() as stdin, answers.open("w") as stdout:
+        subprocess.run([str(tmp_path / "answer"), str(ALPHA_X), str(ALPHA_Y)], stdin=stdin,
+                       stdout=stdout, check=True)
+    report = compare(REFERENCE, read_answers(answers, request))
+    assert report.passed, str(report)
+
+
+def test_the_command_line_writes_a_request_and_judges_its_answers(tmp_path, capsys):
+    from adobe_bsdf.__main__ import main
+    from adobe_bsdf.conformance import answer_request
+
+    words = ["conform", "Conductor", f"alpha_x={ALPHA_X}", f"alpha_y={ALPHA_Y}"]
+    request, answers = tmp_path / "request.npz", tmp_path / "answers.npz"
+    assert main([*words, "--write-request", str(request), "--samples", "5000"]) == 0
+    answer_request(request, HandGGX(), answers)
+    assert main([*words, "--candidate", str(answers), "--request", str(request)]) == 0
+    assert "conforms" in capsys.readouterr().out
+    assert main([*words, "--candidate", str(answers)]) == 2
+    assert "needs --request" in capsys.readouterr().err
+    assert main(words) == 2 and "one of them" in capsys.readouterr().err

@@ -10,9 +10,19 @@ Public API
 ``CandidateLobe``, ``as_lobe``  a candidate as a ``Lobe``: every check of
                          ``adobe_bsdf.validation`` runs on it.
 ``Report``, ``Check``    the verdict: a table (``str``), ``markdown()``, ``to_json()``.
+``write_request``, ``read_answers``  the file protocol (``conformance.files``): the queries
+                         for a renderer without Python, and its answers as a candidate;
+                         ``answer_request`` answers a request with a Python candidate.
 """
 
 from adobe_bsdf.conformance.compare import assert_conforms, compare, default_views
+from adobe_bsdf.conformance.files import (
+    AnsweredCandidate,
+    answer_request,
+    read_answers,
+    read_request,
+    write_request,
+)
 from adobe_bsdf.conformance.report import Check, Report
 from adobe_bsdf.validation.candidate import (
     Candidate,
@@ -22,5 +32,6 @@ from adobe_bsdf.validation.candidate import (
     as_lobe,
 )
 
-__all__ = ["Candidate", "CandidateError", "CandidateLobe", "Check", "FunctionCandidate",
-           "Report", "as_lobe", "assert_conforms", "compare", "default_views"]
+__all__ = ["AnsweredCandidate", "Candidate", "CandidateError", "CandidateLobe", "Check",
+           "FunctionCandidate", "Report", "answer_request", "as_lobe", "assert_conforms",
+           "compare", "default_views", "read_answers", "read_request", "write_request"]

@@ -10,7 +10,9 @@ REFERENCE, as words:
 * a MaterialX file: ``material.mtlx`` (its first material, or ``material.mtlx NAME``);
 * a case of ``python -m adobe_bsdf check`` (its name, or a part of it naming one case).
 
-CANDIDATE: ``mitsuba:`` followed by a Mitsuba 3 plugin dictionary in JSON or its XML.
+CANDIDATE: ``mitsuba:`` followed by a Mitsuba 3 plugin dictionary in JSON or its XML; or a
+renderer's answer file (``--candidate answers.jsonl --request request.jsonl``), after
+``--write-request request.jsonl`` wrote the queries (``conformance.files``).
 """
 
 from __future__ import annotations
@@ -81,9 +83,16 @@ def reference_from_words(words):
                      ".mtlx file or check case (python -m adobe_bsdf check --list)")
 
 
-def candidate_from_text(text: str):
+def candidate_from_text(text: str, request=None):
     """The candidate named by ``text``: ``mitsuba:`` and a plugin dictionary in JSON or its
-    XML."""
+    XML, or an answer file (``.jsonl``, ``.npz``) to the request file ``request``."""
+    if text.endswith((".jsonl", ".npz")):
+        if request is None:
+            raise ValueError(f"--candidate {text}: an answer file needs --request, the "
+                             "request file it answers")
+        from adobe_bsdf.conformance.files import read_answers
+
+        return read_answers(text, request)
     kind, sep, body = text.partition(":")
     if sep and kind == "mitsuba":
         from adobe_bsdf.validation.mitsuba import MitsubaBSDF
@@ -97,7 +106,7 @@ def candidate_from_text(text: str):
             return MitsubaBSDF(plugin)
         return MitsubaBSDF(body)
     raise ValueError(f"--candidate {text!r}: allowed mitsuba:JSON or mitsuba:XML (a Mitsuba 3 "
-                     "plugin)")
+                     "plugin), or an answer file (.jsonl, .npz) with --request")
 
 
 def add_parser(sub) -> None:
@@ -109,9 +118,15 @@ def add_parser(sub) -> None:
     p.add_argument("reference", nargs="+", metavar="REFERENCE",
                    help="ASM name=value..., OpenPBR name=value..., a lobe (Conductor "
                    "alpha_x=0.3 ...), a .mtlx file, or a check case")
-    p.add_argument("--candidate", required=True, metavar="mitsuba:PLUGIN",
+    p.add_argument("--candidate", metavar="CANDIDATE",
                    help="a Mitsuba 3 plugin: mitsuba:'{\"type\": \"roughconductor\", ...}' "
-                   "or mitsuba:'<bsdf type=...>...</bsdf>'")
+                   "or mitsuba:'<bsdf type=...>...</bsdf>'; or a renderer's answer file "
+                   "(.jsonl, .npz) with --request")
+    p.add_argument("--write-request", metavar="FILE",
+                   help="write the queries for a renderer to answer (.jsonl or .npz) and "
+                   "exit")
+    p.add_argument("--request", metavar="FILE",
+                   help="the request file that --candidate answers")
     p.add_argument("--samples", type=int, default=100_000, metavar="N",
                    help="samples per view of each statistical test (default 100000)")
     p.add_argument("--view", nargs=2, type=float, action="append", metavar=("COS", "PHI"),
@@ -127,28 +142,30 @@ def add_parser(sub) -> None:
 def run(args, prog: str) -> int:
     import sys
 
-    import numpy as np
-
     from adobe_bsdf.conformance.compare import compare
 
     def fail(message):
         print(f"{prog} conform: error: {message}", file=sys.stderr)
         return 2
-    try:
-        reference = reference_from_words(args.reference)
-        candidate = candidate_from_text(args.candidate)
-    except (ValueError, TypeError, OSError) as exc:
-        return fail(str(exc))
-    views = None
-    if args.view:
-        c = np.array([v[0] for v in args.view])
-        if np.any(np.abs(c) > 1.0) or np.any(c == 0.0):
-            return fail(f"--view cosines {c.tolist()}: allowed in [-1, 0) or (0, 1]")
-        s = np.sqrt(1.0 - c * c)
-        phi = np.array([v[1] for v in args.view])
-        views = np.stack([s * np.cos(phi), s * np.sin(phi), c], -1)
     if args.samples < 1000:
         return fail(f"--samples {args.samples}: allowed at least 1000")
+    if (args.candidate is None) == (args.write_request is None):
+        return fail("give --candidate (what to judge) or --write-request FILE (the queries "
+                    "for a renderer), one of them")
+    try:
+        reference = reference_from_words(args.reference)
+        views = _views(args.view)
+        if args.write_request:
+            from adobe_bsdf.conformance.files import write_request
+
+            write_request(args.write_request, reference, views=views, n_samples=args.samples,
+                          float32=args.float32)
+            print(f"wrote {args.write_request}: answer it, then run with --candidate "
+                  f"ANSWERS --request {args.write_request}")
+            return 0
+        candidate = candidate_from_text(args.candidate, args.request)
+    except (ValueError, TypeError, OSError) as exc:
+        return fail(str(exc))
     report = compare(reference, candidate, views=views, n_samples=args.samples,
                      float32=args.float32, same_sampling=not args.other_sampling,
                      progress=sys.stderr.isatty())
@@ -160,3 +177,18 @@ def run(args, prog: str) -> int:
         (out / "report.json").write_text(report.to_json(), encoding="utf-8")
         print(f"wrote {out / 'report.md'} and {out / 'report.json'}")
     return 0 if report.passed else 1
+
+
+def _views(view_args):
+    """``--view COS PHI`` pairs as directions, or None (``ValueError`` for a cosine outside
+    [-1, 0) or (0, 1])."""
+    import numpy as np
+
+    if not view_args:
+        return None
+    c = np.array([v[0] for v in view_args])
+    if np.any(np.abs(c) > 1.0) or np.any(c == 0.0):
+        raise ValueError(f"--view cosines {c.tolist()}: allowed in [-1, 0) or (0, 1]")
+    s = np.sqrt(1.0 - c * c)
+    phi = np.array([v[1] for v in view_args])
+    return np.stack([s * np.cos(phi), s * np.sin(phi), c], -1)

@@ -22,6 +22,7 @@ statistical, worst case and likely cause):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
@@ -32,7 +33,8 @@ from adobe_bsdf.validation.candidate import CandidateError, as_lobe
 from adobe_bsdf.validation.checks import reciprocity_error, weight_cause
 from adobe_bsdf.validation.chi2 import chi2_test, sidak_alpha
 
-__all__ = ["compare", "assert_conforms", "default_views", "STRATA", "FLOOR"]
+__all__ = ["compare", "assert_conforms", "default_views", "make_plan", "Plan", "STRATA",
+           "FLOOR"]
 
 #: per view, STRATA x STRATA stratified directions wi for the pointwise checks
 STRATA = 24
@@ -78,6 +80,42 @@ def _pairs(views, rng):
     wo = np.repeat(views, STRATA * STRATA, axis=0)
     keep = wi[:, 2] != 0.0
     return wo[keep], wi[keep]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What a comparison asks of a candidate: the ``views``, the pairs (``wo``, ``wi``) of
+    the pointwise and reciprocity checks (``keep``: those well conditioned in float32, or
+    None), and per view ``n_samples`` samples from the uniforms ``uniforms(k)``."""
+
+    views: np.ndarray
+    wo: np.ndarray
+    wi: np.ndarray
+    keep: np.ndarray | None
+    n_samples: int
+    seed: int
+    float32: bool = False
+
+    def uniforms(self, k: int) -> np.ndarray:
+        """The uniforms ``(n_samples, 3)`` of view ``k``: those ``chi2_test`` draws with the
+        seed ``seed + 1 + k``."""
+        return np.random.default_rng(self.seed + 1 + k).random((self.n_samples, 3))
+
+
+def make_plan(reference: Lobe, views=None, n_samples: int = 100_000, seed: int = 0,
+              float32: bool = False) -> Plan:
+    """The ``Plan`` of a comparison with ``reference`` (``compare``'s arguments)."""
+    views = default_views(reference) if views is None else np.atleast_2d(
+        np.asarray(views, dtype=np.float64))
+    wo, wi = _pairs(views, np.random.default_rng(seed))
+    keep = None
+    if float32:
+        from adobe_bsdf.validation.mitsuba import float32_directions, well_conditioned
+
+        wo, wi = float32_directions(wo), float32_directions(wi)
+        eta = getattr(reference, "eta", None)
+        keep = well_conditioned(wo, wi, None if eta is None else float(np.max(eta)))
+    return Plan(views, wo, wi, keep, int(n_samples), int(seed), bool(float32))
 
 
 def _bad(values) -> tuple[int, int, int]:
@@ -172,9 +210,11 @@ def _cause(name: str, r, c, wo, wi, floor) -> str:
     return ""
 
 
-def _draw(lobe: Lobe, views, n: int, rng):
-    wo = np.repeat(views, n, axis=0)
-    s = lobe.sample(wo, rng.random((len(wo), 3)))
+def _draw(lobe: Lobe, plan: Plan, n: int):
+    """The candidate's first ``n`` samples of each view of ``plan``, in one batch."""
+    wo = np.repeat(plan.views, n, axis=0)
+    u = np.concatenate([plan.uniforms(k)[:n] for k in range(len(plan.views))])
+    s = lobe.sample(wo, u)
     return {"wo": wo, "wi": s.wi, "weight": s.weight, "pdf": s.pdf}
 
 
@@ -223,10 +263,10 @@ class _SampledBy(Lobe):
         return self.sampler._sample(wo, u)
 
 
-def _chi2_check(name: str, lobe: Lobe, views, n_samples: int, alpha: float,
-                seed: int) -> Check:
-    results = [chi2_test(lobe, v, n_samples=n_samples, seed=seed + k, alpha=alpha,
-                         n_tests=len(views)) for k, v in enumerate(views)]
+def _chi2_check(name: str, lobe: Lobe, plan: Plan, alpha: float) -> Check:
+    views = plan.views
+    results = [chi2_test(lobe, v, n_samples=plan.n_samples, seed=plan.seed + 1 + k,
+                         alpha=alpha, n_tests=len(views)) for k, v in enumerate(views)]
     k = int(np.argmin([r.p_value for r in results]))
     worst = results[k]
     threshold = sidak_alpha(alpha, len(views))
@@ -244,12 +284,26 @@ def _chi2_check(name: str, lobe: Lobe, views, n_samples: int, alpha: float,
                         "dof": int(worst.dof)}, cause=cause, note="" if cause else note)
 
 
-def _albedo_check(reference: Lobe, candidate: Lobe, views, n_samples: int, alpha: float,
-                  atol: float, seed: int) -> Check:
-    E_r, s_r = reference.albedo(views, "mc", n_samples=n_samples, rng=seed,
+def _sampled_albedo(lobe: Lobe, plan: Plan) -> tuple[np.ndarray, np.ndarray]:
+    """``(mean, standard error)`` ``(views, 3)`` of the energy-scaled sample weights of the
+    plan's samples (the uniforms of the chi-square tests)."""
+    means, errors = [], []
+    for k, view in enumerate(plan.views):
+        u = plan.uniforms(k)
+        wo = np.broadcast_to(view, u.shape)
+        s = lobe.sample(wo, u)
+        w = s.weight * lobe._energy_scale_rgb(wo, s.wi)
+        means.append(w.mean(0))
+        errors.append(w.std(0, ddof=1) / np.sqrt(len(w)))
+    return np.stack(means), np.stack(errors)
+
+
+def _albedo_check(reference: Lobe, candidate: Lobe, plan: Plan, alpha: float,
+                  atol: float) -> Check:
+    views, n_samples = plan.views, plan.n_samples
+    E_r, s_r = reference.albedo(views, "mc", n_samples=n_samples, rng=plan.seed + 2000,
                                 return_error=True)
-    E_c, s_c = candidate.albedo(views, "mc", n_samples=n_samples, rng=seed + 1,
-                                return_error=True)
+    E_c, s_c = _sampled_albedo(candidate, plan)
     diff = np.abs(E_c - E_r)
     sigma = np.sqrt(s_r ** 2 + s_c ** 2)
     z = np.where(sigma > 0, diff / np.where(sigma > 0, sigma, 1.0), np.where(diff > 0,
@@ -328,17 +382,11 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
                          "adobe_bsdf")
     cand = as_lobe(candidate, getattr(ref, "eta", None) if getattr(candidate, "eta", None)
                    is None and not isinstance(candidate, Lobe) else None)
-    views = default_views(ref) if views is None else np.atleast_2d(
-        np.asarray(views, dtype=np.float64))
-    rng = np.random.default_rng(seed)
-    wo, wi = _pairs(views, rng)
-    keep = None
-    if float32:
-        from adobe_bsdf.validation.mitsuba import float32_directions, well_conditioned
-
-        wo, wi = float32_directions(wo), float32_directions(wi)
-        eta = getattr(ref, "eta", None)
-        keep = well_conditioned(wo, wi, None if eta is None else float(np.max(eta)))
+    plan = getattr(candidate, "plan", None)  # a file's answers: the request's plan
+    if plan is None:
+        plan = make_plan(ref, views, n_samples, seed, float32)
+    answers_only = plan is getattr(candidate, "plan", None)
+    views, wo, wi, keep = plan.views, plan.wo, plan.wi, plan.keep
     checks = []
     steps = ["pointwise", "samples", "chi2", "albedo", "reciprocity"]
     bar = tqdm(steps, desc="conformance", disable=not progress, leave=False)
@@ -346,7 +394,7 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         f_r, pdf_r = ref.eval(wo, wi), ref.pdf(wo, wi)
         f_c, pdf_c = cand.eval(wo, wi), cand.pdf(wo, wi)
         bar.update()
-        samples = _draw(cand, views, min(n_samples, 20_000), rng)
+        samples = _draw(cand, plan, min(plan.n_samples, 20_000))
         checks.append(_finite_check(wo, wi, f_c, pdf_c, samples))
         checks.append(_pointwise("eval", f_r, f_c, wo, wi, views, rtol, keep))
         if same_sampling:
@@ -356,16 +404,19 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
                                 "is False: the candidate's own strategy"))
         checks.append(_weight_check(cand, samples, rtol))
         bar.update()
-        checks.append(_chi2_check("chi2 (own pdf)", cand, views, n_samples, alpha, seed))
+        if answers_only:
+            checks.append(Check("chi2 (own pdf)", None, "smallest p-value", note="a file "
+                                "answers pdf at the requested pairs only"))
+        else:
+            checks.append(_chi2_check("chi2 (own pdf)", cand, plan, alpha))
         if same_sampling:
-            checks.append(_chi2_check("chi2 (reference pdf)", _SampledBy(cand, ref), views,
-                                      n_samples, alpha, seed + 1000))
+            checks.append(_chi2_check("chi2 (reference pdf)", _SampledBy(cand, ref), plan,
+                                      alpha))
         else:
             checks.append(Check("chi2 (reference pdf)", None, "smallest p-value",
                                 note="same_sampling is False"))
         bar.update()
-        checks.append(_albedo_check(ref, cand, views, n_samples, alpha, albedo_atol,
-                                    seed + 2000))
+        checks.append(_albedo_check(ref, cand, plan, alpha, albedo_atol))
         bar.update()
         scale = float(np.nanmax(np.abs(f_r))) if np.size(f_r) else 1.0
         checks.append(_reciprocity_check(ref, cand, wo, wi, rtol, scale, keep))
@@ -374,9 +425,9 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         checks.append(Check("candidate", False, "error", cause=str(exc)))
     finally:
         bar.close()
-    settings = {"views": len(views), "n_samples": n_samples, "alpha": alpha, "rtol": rtol,
-                "albedo_atol": albedo_atol, "same_sampling": same_sampling, "float32": float32,
-                "seed": seed}
+    settings = {"views": len(views), "n_samples": plan.n_samples, "alpha": alpha,
+                "rtol": rtol, "albedo_atol": albedo_atol, "same_sampling": same_sampling,
+                "float32": plan.float32, "seed": plan.seed}
     return Report(repr(reference), _name(candidate), checks, settings)
 
 
