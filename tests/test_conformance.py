@@ -393,3 +393,17 @@ def test_the_command_line_writes_a_request_and_judges_its_answers(tmp_path, caps
     assert main([*words, "--candidate", str(answers)]) == 2
     assert "needs --request" in capsys.readouterr().err
     assert main(words) == 2 and "one of them" in capsys.readouterr().err
+
+
+def test_the_figure_shows_both_slices_and_their_difference():
+    from adobe_bsdf.conformance import difference_map, figure
+
+    wo = np.array([0.3, 0.2, np.sqrt(0.87)])
+    assert np.abs(difference_map(REFERENCE, HandGGX(), wo, size=24)).max() < 1e-12
+    low = difference_map(REFERENCE, HandGGX(fresnel=0.97), wo, size=24)
+    # -0.03 |r| / (|r| + 1e-3 max |r|): -0.03 / 1.001 at the peak
+    assert -0.03 < np.nanmin(low) < -0.0299 and np.nanmax(low) <= 0.0
+    fig = figure(REFERENCE, HandGGX(fresnel=0.97), wo, size=24)
+    assert len(fig.axes) == 4  # two polar slices, the map and its colourbar
+    import matplotlib.pyplot as plt
+    plt.close(fig)

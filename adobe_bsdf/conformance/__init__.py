@@ -10,12 +10,14 @@ Public API
 ``CandidateLobe``, ``as_lobe``  a candidate as a ``Lobe``: every check of
                          ``adobe_bsdf.validation`` runs on it.
 ``Report``, ``Check``    the verdict: a table (``str``), ``markdown()``, ``to_json()``.
+``figure(reference, candidate, wo)``  both polar slices and a map of the difference.
 ``write_request``, ``read_answers``  the file protocol (``conformance.files``): the queries
                          for a renderer without Python, and its answers as a candidate;
                          ``answer_request`` answers a request with a Python candidate.
 """
 
 from adobe_bsdf.conformance.compare import assert_conforms, compare, default_views
+from adobe_bsdf.conformance.figure import difference_map, figure
 from adobe_bsdf.conformance.files import (
     AnsweredCandidate,
     answer_request,
@@ -34,4 +36,5 @@ from adobe_bsdf.validation.candidate import (
 
 __all__ = ["AnsweredCandidate", "Candidate", "CandidateError", "CandidateLobe", "Check",
            "FunctionCandidate", "Report", "answer_request", "as_lobe", "assert_conforms",
-           "compare", "default_views", "read_answers", "read_request", "write_request"]
+           "compare", "default_views", "difference_map", "figure", "read_answers",
+           "read_request", "write_request"]
