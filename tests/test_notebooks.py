@@ -14,7 +14,7 @@ from tests.test_architecture import _bibliography_keys
 NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 EXPECTED = ("01_conventions_and_ggx", "02_fresnel_and_metals", "03_energy_conservation",
             "04_adobe_standard_material", "05_hazy_gloss", "06_speed_vs_accuracy",
-            "07_openpbr", "08_explore")
+            "07_openpbr", "08_explore", "09_conformance")
 #: the switch every notebook reads
 SMALL = "ADOBE_BSDF_NOTEBOOK_SMALL"
 
