@@ -407,3 +407,11 @@ def test_the_figure_shows_both_slices_and_their_difference():
     assert len(fig.axes) == 4  # two polar slices, the map and its colourbar
     import matplotlib.pyplot as plt
     plt.close(fig)
+
+
+def test_the_cost_page_smoke(tmp_path):
+    from benchmarks import conformance_cost
+
+    assert conformance_cost.main(["--smoke", "--out", str(tmp_path)]) == 0
+    page = (tmp_path / conformance_cost.NAME).read_text()
+    assert "| ASM dielectric" in page and "conforms |" in page
