@@ -67,13 +67,17 @@ class CandidateError(ValueError):
     names the method, what was asked and what came back."""
 
 
-def _rgb(name: str, value, batch: tuple) -> np.ndarray:
-    """``value`` as float64 ``(*batch, 3)``: grey ``(*batch)`` or ``(*batch, 1)`` widened."""
+def _numbers(name: str, value) -> np.ndarray:
     try:
-        v = np.asarray(value, dtype=np.float64)
+        return np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise CandidateError(f"{name} returned {type(value).__name__}, not numbers: "
                              f"{exc}") from None
+
+
+def _rgb(name: str, value, batch: tuple) -> np.ndarray:
+    """``value`` as float64 ``(*batch, 3)``: grey ``(*batch)`` or ``(*batch, 1)`` widened."""
+    v = _numbers(name, value)
     if v.shape == batch:
         v = v[..., None]
     if v.shape == batch + (1,):
@@ -85,11 +89,8 @@ def _rgb(name: str, value, batch: tuple) -> np.ndarray:
 
 
 def _grey(name: str, value, batch: tuple) -> np.ndarray:
-    try:
-        v = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise CandidateError(f"{name} returned {type(value).__name__}, not numbers: "
-                             f"{exc}") from None
+    """``value`` as float64 ``(*batch)`` (``(*batch, 1)`` accepted)."""
+    v = _numbers(name, value)
     if v.shape == batch + (1,):
         v = v[..., 0]
     if v.shape != batch:
