@@ -222,25 +222,29 @@ def _worst(E, sigma):
     return E[k, 0] - 1.0, sigma[k, 0]
 
 
+#: the ``anisotropic_energy`` modes compared: the isotropic proxy (sqrt(alpha_x alpha_y)), the
+#: default (the shipped grid of slices), and the slice computed for the lobe
+MODES = ("isotropic", "table", "exact")
+
+
 def anisotropic_furnace_rows(n_samples=FURNACE_SAMPLES):
     """White anisotropic ``ConductorMS`` and ``DielectricMS`` (index ratio ``FURNACE_ETA``, both
     sides) at the ASM alphas, turned by 2 pi x ``FURNACE_ROTATIONS``: max |E - 1| over
     ``FURNACE_COSINES`` x ``FURNACE_AZIMUTHS``. *Quadrature*: single scattering by the
     stretched node integrators (order 16 / 12) at the lobe's own azimuth, plus the
-    compensation's table albedo (exact for its E); the dielectric built with the default
-    ``anisotropic_energy="table"`` (before) and ``"exact"`` (after); *MC*: the whole lobe's
-    albedo, the worst E - 1 and its standard error, ``n_samples`` per direction."""
+    compensation's table albedo (exact for its E); the dielectric built with each of
+    ``MODES`` of ``anisotropic_energy``; *MC*: the whole lobe's albedo (the default mode),
+    the worst E - 1 and its standard error, ``n_samples`` per direction."""
     rows = []
     for r in FURNACE_ROUGHNESS:
         for a in FURNACE_ANISOTROPY:
             ax, ay = (float(x) for x in alphas(np.asarray(r), np.asarray(a)))
             metal = lobes.ConductorMS(ax, ay)
             glass = {}
-            for mode in ("table", "exact"):
+            for mode in MODES:
                 with config.options(anisotropic_energy=mode):
                     glass[mode] = lobes.DielectricMS(FURNACE_ETA, ax, ay)
-            metal_q, glass_q = 0.0, {("table", 1): 0.0, ("table", -1): 0.0,
-                                      ("exact", 1): 0.0, ("exact", -1): 0.0}
+            metal_q, glass_q = 0.0, {(mode, side): 0.0 for mode in MODES for side in (1, -1)}
             for rotation in FURNACE_ROTATIONS:
                 phi0 = 2.0 * np.pi * rotation
                 c, p, wo = _furnace_directions()
@@ -260,16 +264,19 @@ def anisotropic_furnace_rows(n_samples=FURNACE_SAMPLES):
             wo = np.concatenate([wo, wo * np.array([1.0, 1.0, -1.0])])[::3]
             metal_mc = _worst(*metal.albedo(wo[: len(wo) // 2], "mc", n_samples=n_samples,
                                             rng=5, return_error=True))
-            glass_mc = _worst(*glass["exact"].albedo(wo, "mc", n_samples=n_samples, rng=5,
+            glass_mc = _worst(*glass["table"].albedo(wo, "mc", n_samples=n_samples, rng=5,
                                                      return_error=True))
-            rows.append((r, a, metal_q, *metal_mc, glass_q["table", 1], glass_q["table", -1],
-                         glass_q["exact", 1], glass_q["exact", -1], *glass_mc))
+            rows.append((r, a, metal_q, *metal_mc,
+                         *[glass_q[mode, side] for mode in MODES for side in (1, -1)],
+                         *glass_mc))
     return rows
 
 
-#: white anisotropic materials of the material furnace: (label, class, parameters); the
-#: ASM's glass is single scattering by design (``materials.asm.asm_dielectric``), not here
+#: white anisotropic materials of the material furnace: (label, class, parameters)
 MATERIAL_FURNACE = [
+    ("ASM glass, r 0.35, a 0.6", AdobeStandardMaterial,
+     dict(base_color=1.0, translucency=1.0, ior=1.45, roughness=0.35, anisotropy_level=0.6,
+          anisotropy_angle=0.3)),
     ("ASM metal, r 0.2, a 0.8", AdobeStandardMaterial,
      dict(metallic=1.0, base_color=1.0, specular_edge_color=1.0, roughness=0.2,
           anisotropy_level=0.8, anisotropy_angle=0.3)),
@@ -292,14 +299,14 @@ MATERIAL_SAMPLES = 100_000
 
 def material_furnace_rows(n_samples=MATERIAL_SAMPLES):
     """Monte-Carlo albedo of the white anisotropic ``MATERIAL_FURNACE`` materials from above,
-    built with ``anisotropic_energy="table"`` and ``"exact"``: the worst E - 1 and its
+    built with each of ``MODES`` of ``anisotropic_energy``: the worst E - 1 and its
     standard error over every third direction of ``FURNACE_COSINES`` x
     ``FURNACE_AZIMUTHS``, and the build time."""
     wo = _furnace_directions()[2][::3]
     rows = []
     for label, cls, params in MATERIAL_FURNACE:
         row = [label]
-        for mode in ("table", "exact"):
+        for mode in MODES:
             start = time.perf_counter()
             with config.options(anisotropic_energy=mode):
                 material = cls(**params)
@@ -584,9 +591,11 @@ def main(argv=None):
             f"{example.n_nodes} nodes in {len(example.parts)} tables (mu x |cos phi|): "
             + "; ".join(example.layout())
             + " (the dense side split at the critical cosine, at 1 / eta and along the two "
-            "kinks of a nearly one-dimensional surface, `tables.dielectric_slices`). The default "
-            "(`\"table\"`) still reads the isotropic tables at sqrt(alpha_x alpha_y): "
-            "a slice costs seconds, once per distinct (alpha_x, alpha_y, eta) in a process.",
+            "kinks of a nearly one-dimensional surface, `tables.dielectric_slices`): a slice "
+            "costs seconds, once per distinct (alpha_x, alpha_y, eta) in a process. The "
+            "default (`\"table\"`) interpolates the slice from the shipped grid of slices "
+            "(`tables.dielectric_grid`, [anisotropic_grid_measured.md]"
+            "(anisotropic_grid_measured.md)).",
             "", f"Node accuracy: at {n_nodes} random nodes (mu >= 0.005, alpha in [0.003, "
             "1.5], ratio = u^3, eta in [1/3, 3]) the slices' order is within "
             f"{e_max:.1e} of order 20 in E_R + E_T (median {e_median:.1e}; every node "
@@ -612,30 +621,32 @@ def main(argv=None):
             "*Quadrature*: single scattering by the stretched node integrators (order 16 for "
             "the conductor, 12 for the dielectric) at the lobe's own azimuth plus the "
             "compensation's albedo (exact for the E it reads); the dielectric built with "
-            "`anisotropic_energy=\"table\"` (the default: the isotropic tables at "
-            "sqrt(alpha_x alpha_y)) and `\"exact\"` (its slice). *MC*: the whole lobe's "
-            f"albedo with {FURNACE_SAMPLES} samples per direction (the dielectric exact, a "
-            "third of the directions from either side): the worst E - 1 ± one standard "
-            "error.", "",
+            "`anisotropic_energy=\"isotropic\"` (the isotropic tables at "
+            "sqrt(alpha_x alpha_y)), `\"table\"` (the default: the grid of slices) and "
+            "`\"exact\"` (its own slice). *MC*: the whole default lobe's "
+            f"albedo with {FURNACE_SAMPLES} samples per direction (the dielectric a third of "
+            "the directions from either side): the worst E - 1 ± one standard error.", "",
             "| roughness | anisotropy | conductor: max abs(E - 1), quadrature | conductor: "
-            "worst E - 1, MC | dielectric, table: light side | table: dense side | "
-            "dielectric, exact: light side | exact: dense side | exact: worst E - 1, MC |",
-            "|---|---|---|---|---|---|---|---|---|"]
-    for r, a, quad, e_mc, s_mc, t_l, t_d, x_l, x_d, e_d, s_d in anisotropic_furnace_rows():
-        out.append(f"| {r:g} | {a:g} | {quad:.1e} | {e_mc:+.4f} ± {s_mc:.4f} | {t_l:.1e} | "
-                   f"{t_d:.1e} | {x_l:.1e} | {x_d:.1e} | {e_d:+.4f} ± {s_d:.4f} |")
+            "worst E - 1, MC | dielectric, isotropic: light side | isotropic: dense side | "
+            "dielectric, default: light side | default: dense side | dielectric, exact: "
+            "light side | exact: dense side | default: worst E - 1, MC |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r, a, quad, e_mc, s_mc, *sides, e_d, s_d in anisotropic_furnace_rows():
+        out.append(f"| {r:g} | {a:g} | {quad:.1e} | {e_mc:+.4f} ± {s_mc:.4f} | "
+                   + " | ".join(f"{x:.1e}" for x in sides) + f" | {e_d:+.4f} ± {s_d:.4f} |")
     out += ["", "### Materials", "",
             "White anisotropic ASM and OpenPBR materials (coats white, base colours 1) built "
-            "with `anisotropic_energy=\"table\"` and `\"exact\"`: Monte-Carlo albedo from "
-            f"above with {MATERIAL_SAMPLES} samples per direction over every third of the same "
-            "directions, "
+            "with `anisotropic_energy=\"isotropic\"`, `\"table\"` (the default) and "
+            f"`\"exact\"`: Monte-Carlo albedo from above with {MATERIAL_SAMPLES} samples per "
+            "direction over every third of the same directions, "
             "the worst E - 1 ± one standard error, and the time to build the material (the "
             "exact one computes its slices: one per distinct anisotropic interface).", "",
-            "| material | table: worst E - 1 | build | exact: worst E - 1 | build |",
-            "|---|---|---|---|---|"]
-    for label, e_t, s_t, b_t, e_x, s_x, b_x in material_furnace_rows():
-        out.append(f"| {label} | {e_t:+.4f} ± {s_t:.4f} | {b_t:.2f} s | {e_x:+.4f} ± "
-                   f"{s_x:.4f} | {b_x:.1f} s |")
+            "| material | isotropic: worst E - 1 | build | default: worst E - 1 | build | "
+            "exact: worst E - 1 | build |", "|---|---|---|---|---|---|---|"]
+    for label, *cells in material_furnace_rows():
+        out.append(f"| {label} | " + " | ".join(
+            f"{cells[k]:+.4f} ± {cells[k + 1]:.4f} | {cells[k + 2]:.2f} s"
+            for k in range(0, len(cells), 3)) + " |")
     scale = bake_scale_rows()
     out += ["", "## Baking at scale", "",
             f"`ggx_conductor` re-declared at {SCALE_NODES} x {SCALE_NODES} nodes, baked by "
