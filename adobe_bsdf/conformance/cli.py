@@ -167,8 +167,7 @@ def run(args, prog: str) -> int:
     except (ValueError, TypeError, OSError) as exc:
         return fail(str(exc))
     report = compare(reference, candidate, views=views, n_samples=args.samples,
-                     float32=args.float32, same_sampling=not args.other_sampling,
-                     progress=sys.stderr.isatty())
+                     float32=args.float32, same_sampling=not args.other_sampling)
     print(report)
     if args.out:
         out = Path(args.out)

@@ -343,7 +343,7 @@ def _reciprocity_check(reference: Lobe, candidate: Lobe, wo, wi, rtol: float,
 def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
             alpha: float = 0.01, rtol: float = 1e-3, albedo_atol: float = 2e-3,
             same_sampling: bool = True, float32: bool = False, seed: int = 0,
-            progress: bool = False) -> Report:
+            progress: bool = True) -> Report:
     """Judge ``candidate`` (a ``Candidate``: ``eval``, ``pdf``, ``sample`` in the library's
     conventions) against ``reference`` (a lobe or material of the library).
 
@@ -372,7 +372,8 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
     seed : int
         Seed of every random choice (pairs, uniforms).
     progress : bool
-        A progress bar over the checks.
+        A progress bar over the checks (on a terminal; never in a log or a notebook's
+        captured output).
     """
     from tqdm import tqdm
 
@@ -389,7 +390,7 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
     views, wo, wi, keep = plan.views, plan.wo, plan.wi, plan.keep
     checks = []
     steps = ["pointwise", "samples", "chi2", "albedo", "reciprocity"]
-    bar = tqdm(steps, desc="conformance", disable=not progress, leave=False)
+    bar = tqdm(steps, desc="conformance", disable=None if progress else True, leave=False)
     try:
         f_r, pdf_r = ref.eval(wo, wi), ref.pdf(wo, wi)
         f_c, pdf_c = cand.eval(wo, wi), cand.pdf(wo, wi)

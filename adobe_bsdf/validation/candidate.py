@@ -138,8 +138,8 @@ class CandidateLobe(Lobe):
 
     flags = Flags.REFLECTION | Flags.TRANSMISSION | Flags.GLOSSY
 
-    def __init__(self, candidate, eta=None):
-        for method in ("eval", "pdf", "sample"):
+    def __init__(self, candidate, eta=None, needs=("eval", "pdf", "sample")):
+        for method in needs:
             if not callable(getattr(candidate, method, None)):
                 raise ValueError(f"candidate = {candidate!r} has no method {method}(): a "
                                  "candidate offers eval(wo, wi), pdf(wo, wi) and sample(wo, "
@@ -192,9 +192,10 @@ class CandidateLobe(Lobe):
         return self._energy_scale(wo, wi)[..., None]
 
 
-def as_lobe(candidate, eta=None) -> Lobe:
+def as_lobe(candidate, eta=None, needs=("eval", "pdf", "sample")) -> Lobe:
     """``candidate`` itself where it is a library ``Lobe``, else ``CandidateLobe(candidate,
-    eta)``."""
+    eta)``, checked to have the methods a check ``needs`` (a sampler's chi-square needs
+    only ``pdf`` and ``sample``)."""
     if isinstance(candidate, Lobe):
         return candidate
-    return CandidateLobe(candidate, eta)
+    return CandidateLobe(candidate, eta, needs)

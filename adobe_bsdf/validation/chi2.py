@@ -295,7 +295,7 @@ def chi2_test(
     statistic's standard deviation ``sqrt(2 dof)``, about 128: the integration error is
     negligible beside the statistical error.
     """
-    lobe = as_lobe(lobe)  # a library lobe, or any Candidate
+    lobe = as_lobe(lobe, needs=("pdf", "sample"))  # a library lobe, or any sampler
     start = time.perf_counter()
     wo = _params.direction("wo", wo)
     if wo.shape != (3,):
