@@ -15,11 +15,15 @@ Sections (each in its module; a failing section is recorded, not fatal):
   (``benchmarks.active_lobes``);
 * ``materials``: every material case against the summed cost of its lobes, before and after
   (``benchmarks.material_cost``);
-* ``tradeoff``: speed against accuracy (``benchmarks.tradeoff``, if it imports).
+* ``tradeoff``: speed against accuracy (``benchmarks.tradeoff``, if it imports);
+* ``conformance``: the time of ``conformance.compare``'s verdict on materials at 10^6
+  samples per view (``benchmarks.conformance_cost``).
 
 A full run writes ``benchmarks/results.json``, ``docs/performance.md`` and
 ``docs/figures/performance_*.png`` (about 15 minutes on 2 cores); ``--smoke`` uses tiny sizes
-and writes into ``--out`` (default: a new temporary folder), never into the repository.
+and writes into ``--out`` (default: a new temporary folder), never into the repository. A
+run of some ``--sections`` into the repository keeps the other sections of the existing
+``benchmarks/results.json`` (the page says when each part was measured).
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ from benchmarks import (
     active_lobes,
     baseline,
     chunks,
+    conformance_cost,
     machine,
     material_cost,
     mitsuba_bench,
@@ -44,7 +49,7 @@ from benchmarks import (
 from benchmarks import throughput as tp
 
 SECTIONS = ("headline", "mitsuba", "baseline", "chunks", "throughput", "active_lobes",
-            "materials", "tradeoff")
+            "materials", "tradeoff", "conformance")
 
 
 def _log(message: str) -> None:
@@ -109,6 +114,7 @@ def main(argv=None) -> dict:
         "active_lobes": lambda: active_lobes.run(wo, wi, u, smoke),
         "materials": lambda: material_cost.run(smoke, log=_log),
         "tradeoff": lambda: _tradeoff(smoke),
+        "conformance": lambda: {"rows": conformance_cost.measure(smoke)},
     }
     for name in SECTIONS:
         if name in sections:
@@ -116,6 +122,8 @@ def main(argv=None) -> dict:
     results["section_seconds"] = seconds
     results["total_seconds"] = time.perf_counter() - start
     results["load_average_1min_end"] = machine.facts()["load_average_1min"]
+    if out is None and not smoke and set(sections) != set(SECTIONS):
+        results = report.merged(results)  # a part: the other sections as they were
     paths = report.write(results, out, smoke)
     print(f"[benchmarks] {results['total_seconds']:.0f} s; wrote {paths['json']} and "
           f"{paths['markdown']}", file=sys.stderr)

@@ -159,7 +159,10 @@ def _header(results: dict, plots: bool) -> list:
                 "numbers only show that the benchmark works.*", ""]
     out += [f"Measured {m['date_utc']} by `python -m benchmarks` in "
             f"{results['total_seconds']:.0f} s "
-            f"({', '.join(f'{k} {v:.0f} s' for k, v in results['section_seconds'].items())}).",
+            f"({', '.join(f'{k} {v:.0f} s' for k, v in results['section_seconds'].items())})"
+            + ("" if not results.get("measured") else "; later parts: " + ", ".join(
+                f"{k} on {v}" for k, v in results["measured"].items()
+                if v != m["date_utc"])) + ".",
             "",
             f"- Machine: {m['cpu_model']}, {m['cores']} usable cores{gib}; {m['platform']}; "
             f"1-minute load average {_load(m.get('load_average_1min'))} at the start, "
@@ -506,6 +509,42 @@ def _tradeoff(results: dict, figure_dir: Path, smoke: bool) -> list:
                 f"{exc}).", ""]
 
 
+def merged(results: dict) -> dict:
+    """``results`` of some sections over the existing ``RESULTS`` file: its other sections
+    kept, each section's date recorded (``measured``)."""
+    if not RESULTS.exists():
+        return results
+    old = json.loads(RESULTS.read_text(encoding="utf-8"))
+    date = results["machine"]["date_utc"]
+    out = dict(old)
+    out["measured"] = {**{k: old["machine"]["date_utc"] for k in old.get("sections", [])},
+                       **old.get("measured", {}), **{k: date for k in results["sections"]}}
+    for key in results["sections"]:
+        out[key] = results[key]
+    out["sections"] = list(dict.fromkeys(old.get("sections", []) + results["sections"]))
+    out["section_seconds"] = {**old.get("section_seconds", {}),
+                              **results["section_seconds"]}
+    return out
+
+
+def _conformance(results: dict) -> list:
+    section = results.get("conformance")
+    out, missing = _opening("Conformance: the time of a verdict", "Conformance", section)
+    if missing:
+        return missing
+    when = results.get("measured", {}).get("conformance")
+    out += ["`conformance.compare` judging a candidate against its reference, the default "
+            "views, one run each" + (f" (measured {when})" if when else "") + "; "
+            "`python -m benchmarks.conformance_cost` writes the same table to "
+            "[conformance_measured.md](conformance_measured.md).", "",
+            "| candidate | samples per view | views | seconds | verdict |",
+            "|---|---|---|---|---|"]
+    for label, n, views, t, passed in section["rows"]:
+        out.append(f"| {label} | {n} | {views} | {t:.1f} | "
+                   f"{'conforms' if passed else 'does not conform'} |")
+    return out + [""]
+
+
 def markdown(results: dict, figure_dir: Path, link_prefix: str, smoke: bool) -> str:
     """The whole ``performance.md``; writes its figures into ``figure_dir``."""
     plt = pyplot()
@@ -524,6 +563,7 @@ def markdown(results: dict, figure_dir: Path, link_prefix: str, smoke: bool) -> 
     out += _active(results, figures.get("active_lobes"))
     out += _materials(results, figure_dir, link_prefix, smoke)
     out += _tradeoff(results, figure_dir, smoke)
+    out += _conformance(results)
     return "\n".join(out).rstrip() + "\n"
 
 

@@ -146,8 +146,10 @@ def test_markdown_written(smoke):
     for heading in ("## Headline", "## Before and after", "## Mitsuba 3 reference", "## Threads",
                     "## Chunk size and threads",
                     "## Throughput of every registered case",
-                    "## Cost against the number of active lobes", "## Speed versus accuracy"):
+                    "## Cost against the number of active lobes", "## Speed versus accuracy",
+                    "## Conformance: the time of a verdict"):
         assert heading in text
+    assert "| ASM dielectric" in text
     try:
         import matplotlib  # noqa: F401
     except ImportError:
@@ -322,3 +324,24 @@ def test_pick_crossover_runs():
     rows = pick.measure(n=4096)
     assert [r[0] for r in rows] == list(pick.SHARES)
     assert all(t > 0 for r in rows for t in r[1:])
+
+
+def test_a_partial_run_keeps_the_other_sections(tmp_path, monkeypatch):
+    """``report.merged``: the sections run now over those of the results file, each with its
+    date."""
+    from benchmarks import report
+
+    old = {"machine": {"date_utc": "2026-01-01"}, "sections": ["headline", "tradeoff"],
+           "headline": {"x": 1}, "tradeoff": {"y": 2}, "section_seconds": {"headline": 3.0,
+                                                                            "tradeoff": 4.0}}
+    path = tmp_path / "results.json"
+    path.write_text(json.dumps(old))
+    monkeypatch.setattr(report, "RESULTS", path)
+    new = {"machine": {"date_utc": "2026-02-02"}, "sections": ["conformance"],
+           "conformance": {"rows": []}, "section_seconds": {"conformance": 5.0}}
+    merged = report.merged(new)
+    assert merged["headline"] == {"x": 1} and merged["conformance"] == {"rows": []}
+    assert merged["sections"] == ["headline", "tradeoff", "conformance"]
+    assert merged["measured"] == {"headline": "2026-01-01", "tradeoff": "2026-01-01",
+                                  "conformance": "2026-02-02"}
+    assert merged["section_seconds"]["tradeoff"] == 4.0
