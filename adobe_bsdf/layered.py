@@ -19,6 +19,8 @@ lower one (any lobe: ``Lambert``, a conductor, a dielectric that transmits out o
 bottom), both in the shading frame (normal +z); between them is a homogeneous slab of optical
 thickness ``thickness`` (extinction 1 per unit length, so the transmittance along w is
 exp(-thickness / |cos theta|)), single-scattering albedo ``medium_albedo`` and asymmetry g.
+A slab that only absorbs (``medium_albedo`` 0) may have a coloured thickness: a tinted
+varnish, whose transmittance along w is exp(-thickness_c / |cos theta|) in each channel c.
 Light enters through the top: directions with ``wo`` below the surface give 0.
 """
 
@@ -147,8 +149,8 @@ class LayeredReference(Lobe):
     Parameters
     ----------
     top, base : Lobe, with scalar parameters
-    thickness : float in [0, inf)
-        Optical thickness of the slab.
+    thickness : float in [0, inf), or a colour where ``medium_albedo`` is 0
+        Optical thickness of the slab (per channel: an absorbing slab's).
     medium_albedo : colour in [0, 1]
         Single-scattering albedo of the slab (0: it only absorbs, exp(-thickness / |cos|)).
     g : float in (-1, 1)
@@ -172,11 +174,22 @@ class LayeredReference(Lobe):
                 raise ValueError(f"{name} = {lobe!r} has parameters of shape "
                                  f"{lobe._param_shape()}; allowed: scalar parameters")
         albedo = _params.color("medium_albedo", medium_albedo, 0.0, 1.0)
-        if albedo.ndim > 1:
-            raise ValueError(f"medium_albedo has shape {albedo.shape}; allowed: a single "
-                             "colour, () or (3,)")
+        tau = _params.color("thickness", thickness, 0.0, np.inf)
+        for name, value in (("medium_albedo", albedo), ("thickness", tau)):
+            if value.ndim > 1:
+                raise ValueError(f"{name} has shape {value.shape}; allowed: a single "
+                                 "colour, () or (3,)")
+        if not np.all(np.isfinite(tau)):
+            raise ValueError(f"thickness = {thickness!r} is not finite; allowed: [0, inf)")
+        if np.any(tau != tau[0]) and np.any(albedo > 0.0):
+            raise ValueError(f"thickness = {thickness!r} is a colour; allowed: a colour only "
+                             f"where the slab does not scatter (medium_albedo = {medium_albedo!r}"
+                             " is not 0)")
         self.top, self.base = top, base
-        self.thickness = _params.scalar("thickness", thickness, 0.0, np.inf, hi_open=True)
+        #: the optical thickness per channel, and the slab's height (the largest of them)
+        self._tau = tau
+        self.thickness = float(tau[0]) if np.all(tau == tau[0]) else tau
+        self._height = float(tau.max())
         self.medium_albedo = np.broadcast_to(albedo, (3,))
         self.g = _params.scalar("g", g, -1.0, 1.0, lo_open=True, hi_open=True)
         self.n_samples = _params.integer("n_samples", n_samples, 1)
@@ -196,7 +209,7 @@ class LayeredReference(Lobe):
         self.flags = flags
 
     def __repr__(self) -> str:
-        return (f"LayeredReference({self.top!r}, {self.base!r}, thickness={self.thickness}, "
+        return (f"LayeredReference({self.top!r}, {self.base!r}, thickness={np.asarray(self.thickness).tolist()}, "
                 f"medium_albedo={self.medium_albedo.tolist()}, g={self.g}, "
                 f"n_samples={self.n_samples})")
 
@@ -206,7 +219,7 @@ class LayeredReference(Lobe):
     @property
     def _scatters(self) -> bool:
         """Whether the slab scatters (else it only absorbs, or is empty)."""
-        return self.thickness > 0.0 and bool(np.any(self.medium_albedo > 0.0))
+        return self._height > 0.0 and bool(np.any(self.medium_albedo > 0.0))
 
     @property
     def eta(self):
@@ -226,9 +239,15 @@ class LayeredReference(Lobe):
             [self.seed] + [zlib.crc32(np.ascontiguousarray(a).tobytes()) for a in arrays])
 
     def _transmittance(self, dz, w):
-        """exp(-|dz| / |cos theta|) along ``w`` (0 in the tangent plane)."""
+        """exp(-|dz| / |cos theta|) along ``w`` (0 in the tangent plane), ``(..., 1)``."""
         with np.errstate(divide="ignore"):
             return np.exp(-np.abs(dz) / np.abs(w[..., 2]))[..., None]
+
+    def _crossing(self, w):
+        """exp(-thickness_c / |cos theta|) of a crossing of the whole slab along ``w``, per
+        channel ``(..., 3)`` (0 in the tangent plane)."""
+        with np.errstate(divide="ignore"):
+            return np.exp(-self._tau / np.abs(w[..., 2:3]))
 
     @staticmethod
     def _flat(a, b):
@@ -280,8 +299,8 @@ class LayeredReference(Lobe):
         ``LayeredBxDF::f`` entered through the top."""
         n, S = len(wo), self.n_samples
         exit_, other = (self.top, self.base) if exits_top else (self.base, self.top)
-        exit_z = self.thickness if exits_top else 0.0
-        top_z = self.thickness
+        exit_z = self._height if exits_top else 0.0
+        top_z = self._height
         pair = np.repeat(np.arange(n), S)
         wo_w, wi_w = wo[pair], wi[pair]
         contribution = np.zeros((n * S, 3))
@@ -315,7 +334,7 @@ class LayeredReference(Lobe):
                 break
             k = walks.pair
             if self._scatters:
-                zp, inside, stuck = walks.flight(rng, self.thickness)
+                zp, inside, stuck = walks.flight(rng, self._height)
                 if np.any(inside):
                     j = np.flatnonzero(inside)
                     kj, w, beta = k[j], walks.w[j], walks.beta[j]
@@ -338,11 +357,11 @@ class LayeredReference(Lobe):
                                       beta[h] * self._transmittance(zp[j][h] - exit_z, w_new[h])
                                       * f_exit * wt[:, None])
                     walks.beta[j], walks.w[j], walks.z[j] = beta, w_new, zp[j]
-                walks.z = np.where(inside, walks.z, np.clip(zp, 0.0, self.thickness))
+                walks.z = np.where(inside, walks.z, np.clip(zp, 0.0, self._height))
                 at = ~inside & ~stuck
             else:
                 walks.z = np.where(walks.w[:, 2] > 0.0, top_z, 0.0)
-                walks.beta = walks.beta * self._transmittance(self.thickness, walks.w)
+                walks.beta = walks.beta * self._crossing(walks.w)
                 at = np.ones(len(walks), dtype=bool)
             # scattering by the interface reached: the top going up, the base going down
             at_exit = at & ((walks.w[:, 2] > 0.0) == exits_top)
@@ -357,7 +376,7 @@ class LayeredReference(Lobe):
                     f_o, p_o = other._eval_pdf(-w, -x_wi[kj])
                     wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p_o))
                     np.add.at(contribution, kj, beta * f_o * wt[:, None]
-                              * self._transmittance(self.thickness, x_wi[kj]) * x_w[kj])
+                              * self._crossing(x_wi[kj]) * x_w[kj])
                 bs = lobe._sample(-w, rng.random((len(j), 3)))
                 back = (bs.pdf > 0.0) & (bs.wi[:, 2] * w[:, 2] < 0.0)  # reflected, not out
                 beta = beta * bs.weight
@@ -370,7 +389,7 @@ class LayeredReference(Lobe):
                         wt = np.where((bs.flags[h] & _DELTA) != 0, 1.0,
                                       _power(bs.pdf[h], exit_pdf))
                         np.add.at(contribution, kh, beta[h] * f_exit * wt[:, None]
-                                  * self._transmittance(self.thickness, w_new))
+                                  * self._crossing(w_new))
                 walks.beta[j], walks.w[j] = beta, bs.wi
                 alive[j] = back
             walks.keep(alive & np.all(np.isfinite(walks.beta), -1))
@@ -472,7 +491,7 @@ class LayeredReference(Lobe):
         wi[through], weight[through], pdf[through], flags[through] = 0.0, 0.0, 0.0, 0
         flags[wo[:, 2] <= 0.0] = 0
         idx = np.flatnonzero(through)
-        walks = _Walks(idx, s.weight[idx], s.wi[idx], np.full(len(idx), self.thickness))
+        walks = _Walks(idx, s.weight[idx], s.wi[idx], np.full(len(idx), self._height))
         path_pdf = s.pdf[idx]
         delta = (s.flags[idx] & _DELTA) != 0
         albedo = self.medium_albedo
@@ -490,7 +509,7 @@ class LayeredReference(Lobe):
             if not len(walks):
                 break
             if self._scatters:
-                zp, inside, stuck = walks.flight(rng, self.thickness)
+                zp, inside, stuck = walks.flight(rng, self._height)
                 j = np.flatnonzero(inside)
                 if len(j):
                     w_new, p_new = sample_henyey_greenstein(-walks.w[j],
@@ -499,11 +518,11 @@ class LayeredReference(Lobe):
                     walks.w[j] = w_new
                     path_pdf[j] = path_pdf[j] * p_new
                     delta[j] = False
-                walks.z = np.where(inside, zp, np.clip(zp, 0.0, self.thickness))
+                walks.z = np.where(inside, zp, np.clip(zp, 0.0, self._height))
                 at = ~inside & ~stuck
             else:
-                walks.z = np.where(walks.w[:, 2] > 0.0, self.thickness, 0.0)
-                walks.beta = walks.beta * self._transmittance(self.thickness, walks.w)
+                walks.z = np.where(walks.w[:, 2] > 0.0, self._height, 0.0)
+                walks.beta = walks.beta * self._crossing(walks.w)
                 at = np.ones(len(walks), dtype=bool)
             alive = ~at
             up = walks.w[:, 2] > 0.0  # the interface reached: the top going up

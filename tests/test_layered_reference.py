@@ -67,20 +67,23 @@ def test_index_matched_absorbing_slab_is_beer_lambert():
 
 
 @pytest.mark.parametrize("eta, rho, tau", [(1.5, 0.8, 0.0), (1.33, 0.3, 0.0), (2.0, 1.0, 0.0),
-                                           (1.5, 0.9, 0.3)])
+                                           (1.5, 0.9, 0.3), (1.5, 1.0, (0.0, 0.3, 1.2))])
 def test_smooth_coat_over_lambert_is_the_plastic_formula(eta, rho, tau):
     """f = (1 - F(wo))(1 - F(wi)) rho T(wo) T(wi) / (pi eta^2 (1 - rho F_int)), the internal
     reflections summed as a geometric series (T = exp(-tau / mu_t) along the refracted
-    cosines; F_int the hemispherical average of internal reflection, times T^2)."""
+    cosines; F_int the hemispherical average of internal reflection, times T^2); per channel
+    where the absorbing slab is coloured."""
     wo, wi = pairs()
     layer = LayeredReference(Dielectric(eta, 0.0), Lambert(rho), thickness=tau, n_samples=4096)
     f, err = layer.eval_with_error(wo, wi)
-    mo, mi = wo[:, 2], wi[:, 2]
+    mo, mi = wo[:, 2:3], wi[:, 2:3]
+    tau = np.broadcast_to(tau, (3,))
     T = np.exp(-tau * (1.0 / refracted(mo, eta) + 1.0 / refracted(mi, eta)))
     expected = ((1.0 - _dielectric(mo, eta)) * (1.0 - _dielectric(mi, eta)) * rho * T
-                / (np.pi * eta**2 * (1.0 - rho * internal_average(eta, tau))))
+                / (np.pi * eta**2 * (1.0 - rho * np.array([internal_average(eta, t)
+                                                           for t in tau]))))
     assert np.all(err > 0.0)
-    assert_within(f, err, expected[:, None])
+    assert_within(f, err, expected)
 
 
 def test_smooth_coat_over_white_lambert_conserves_energy():
@@ -251,6 +254,10 @@ def test_quadrature_albedo_is_refused():
     ({"max_depth": 2.5}, "max_depth = 2.5"),
     ({"seed": -1}, "seed = -1"),
     ({"medium_albedo": np.ones((2, 3))}, "medium_albedo has shape"),
+    ({"thickness": np.ones((2, 3))}, "thickness has shape"),
+    ({"thickness": (0.1, 0.2, 0.3), "medium_albedo": 0.5},
+     "thickness = .0.1, 0.2, 0.3. is a colour; allowed: a colour only where the slab does "
+     "not scatter"),
 ])
 def test_bad_input(kwargs, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(")):
