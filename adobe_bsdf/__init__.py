@@ -27,6 +27,7 @@ from adobe_bsdf import (
     media,
     microfacet,
     paper_figures,
+    phase,
     plot,
     quadrature,
     render,
@@ -42,7 +43,7 @@ from adobe_bsdf.layered import LayeredReference
 from adobe_bsdf.microfacet import GGX, Beckmann
 
 __all__ = ["composition", "config", "darkening", "dispersion", "frame", "fresnel", "haze", "hazy",
-           "layered", "lobes", "materials", "media", "microfacet", "paper_figures", "plot",
+           "layered", "lobes", "materials", "media", "microfacet", "paper_figures", "phase", "plot",
            "quadrature", "render", "spectral", "tables", "thin_film",
            "explore", "BSDFSample", "Flags", "Lobe", "LayeredReference", "Frame", "GGX", "Beckmann",
            "__version__"]

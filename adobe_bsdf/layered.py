@@ -5,12 +5,12 @@ against (``docs/layering.md``), slow on purpose.
 Public API
 ----------
 ``LayeredReference(top, base, thickness=0, medium_albedo=0, g=0, n_samples=64, max_depth=256,
-seed=0)``
+seed=0, phase=None)``
     position-free Monte-Carlo layered BSDF [Guo2018] in the form of pbrt-v4's
     ``LayeredBxDF`` [Pharr2023, §14.3]: ``eval`` and ``pdf`` are unbiased (``eval``) and
     approximate (``pdf``) estimates from random walks, ``sample`` follows one walk.
 ``henyey_greenstein(wo, wi, g)``, ``sample_henyey_greenstein(wo, u2, g)``
-    the Henyey–Greenstein phase function of the slab [Henyey1941].
+    the Henyey–Greenstein phase function of the slab [Henyey1941] (from ``phase``).
 
 The layer
 ---------
@@ -19,6 +19,9 @@ lower one (any lobe: ``Lambert``, a conductor, a dielectric that transmits out o
 bottom), both in the shading frame (normal +z); between them is a homogeneous slab of optical
 thickness ``thickness`` (extinction 1 per unit length, so the transmittance along w is
 exp(-thickness / |cos theta|)), single-scattering albedo ``medium_albedo`` and asymmetry g.
+Its particles may instead be any ``phase`` object (``adobe_bsdf.phase``), whose extinction
+may depend on the direction: a slab of fibre microflakes transmits
+exp(-thickness sigma(w) / |cos theta|) along w.
 A slab that only absorbs (``medium_albedo`` 0) may have a coloured thickness: a tinted
 varnish, whose transmittance along w is exp(-thickness_c / |cos theta|) in each channel c.
 Light enters through the top: directions with ``wo`` below the surface give 0.
@@ -32,36 +35,14 @@ import numpy as np
 
 from adobe_bsdf import _params, config
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
-from adobe_bsdf.frame import _coordinate_system
 from adobe_bsdf.lobes.dielectric import interface_energy_scale
-from adobe_bsdf.sampling import azimuth, henyey_greenstein_cos
+from adobe_bsdf.phase import HenyeyGreenstein, henyey_greenstein, sample_henyey_greenstein
 
 __all__ = ["LayeredReference", "henyey_greenstein", "sample_henyey_greenstein"]
 
 _DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
 #: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
 _UNIFORM_SHARE = 0.1
-
-
-def henyey_greenstein(wo, wi, g) -> np.ndarray:
-    """p(wo, wi) = (1 - g^2) / (4 pi (1 + g^2 + 2 g wo.wi)^(3/2)) [Henyey1941], per steradian,
-    with both directions pointing away from the scattering point (g > 0: forward, wi = -wo)."""
-    cos = np.sum(np.asarray(wo) * np.asarray(wi), axis=-1)
-    denom = 1.0 + g * g + 2.0 * g * cos
-    return (1.0 - g * g) / (4.0 * np.pi * denom * np.sqrt(np.maximum(denom, 0.0)))
-
-
-def sample_henyey_greenstein(wo, u2, g):
-    """``(wi, pdf)``: wi drawn from ``henyey_greenstein(wo, ., g)`` by inverting its cumulative
-    distribution in the cosine about the travel direction -wo [Pharr2023, §11.3.1]."""
-    cos, v = henyey_greenstein_cos(u2[..., 0], g), u2[..., 1]
-    sin = np.sqrt(1.0 - cos * cos)
-    d = -np.asarray(wo)
-    t, b = _coordinate_system(d)
-    cos_p, sin_p = azimuth(v)
-    wi = ((sin * cos_p)[..., None] * t + (sin * sin_p)[..., None] * b
-          + cos[..., None] * d)
-    return wi, henyey_greenstein(wo, wi, g)
 
 
 def _power(a, b):
@@ -116,11 +97,12 @@ class _Walks:
         self.beta = self.beta / np.where(survive, 1.0 - q, 1.0)[:, None]
         return survive, q
 
-    def flight(self, rng, thickness):
-        """A free flight of unit extinction along w: ``(zp, inside, stuck)``, the height
-        reached, whether it is inside the slab (a scattering event) and whether the flight was
-        too short to move."""
-        dz = -np.log1p(-rng.random(len(self))) * np.abs(self.w[:, 2])
+    def flight(self, rng, thickness, phase):
+        """A free flight of extinction ``phase.sigma(w)`` along w: ``(zp, inside, stuck)``,
+        the height reached, whether it is inside the slab (a scattering event) and whether the
+        flight was too short to move."""
+        with np.errstate(divide="ignore"):
+            dz = -np.log1p(-rng.random(len(self))) * np.abs(self.w[:, 2]) / phase.sigma(self.w)
         zp = np.where(self.w[:, 2] > 0.0, self.z + dz, self.z - dz)
         return zp, (zp > 0.0) & (zp < thickness), zp == self.z
 
@@ -131,7 +113,7 @@ class LayeredReference(Lobe):
 
     ``eval(wo, wi)`` averages ``n_samples`` random walks per pair: each enters through the
     top (a sample of its transmission), bounces between the interfaces and through the slab
-    (free flights of the extinction, Henyey–Greenstein scattering, Russian roulette after 4
+    (free flights of the extinction, scattering by the phase function, Russian roulette after 4
     bounces where the throughput is below 1/4), and at every vertex connects to ``wi``
     through the exit interface (next-event estimation) by two strategies, a sample of the exit
     from ``wi`` and a sample of the vertex, weighed by the power heuristic. It is unbiased
@@ -155,6 +137,8 @@ class LayeredReference(Lobe):
         Single-scattering albedo of the slab (0: it only absorbs, exp(-thickness / |cos|)).
     g : float in (-1, 1)
         Henyey–Greenstein asymmetry of the slab's scattering.
+    phase : a phase object (``adobe_bsdf.phase``), or None for ``HenyeyGreenstein(g)``
+        The slab's particles; with one, ``g`` stays 0.
     n_samples : int >= 1
         Walks per evaluated pair (``eval``, ``pdf``).
     max_depth : int >= 1
@@ -166,7 +150,7 @@ class LayeredReference(Lobe):
     weight_is_ratio = False
 
     def __init__(self, top: Lobe, base: Lobe, thickness=0.0, medium_albedo=0.0, g=0.0,
-                 n_samples: int = 64, max_depth: int = 256, seed: int = 0):
+                 n_samples: int = 64, max_depth: int = 256, seed: int = 0, phase=None):
         for name, lobe in (("top", top), ("base", base)):
             if not isinstance(lobe, Lobe):
                 raise ValueError(f"{name} = {lobe!r}: a LayeredReference takes two lobes")
@@ -192,6 +176,15 @@ class LayeredReference(Lobe):
         self._height = float(tau.max())
         self.medium_albedo = np.broadcast_to(albedo, (3,))
         self.g = _params.scalar("g", g, -1.0, 1.0, lo_open=True, hi_open=True)
+        if phase is None:
+            phase = HenyeyGreenstein(self.g)
+        elif not all(callable(getattr(phase, k, None)) for k in ("sigma", "eval", "sample")):
+            raise ValueError(f"phase = {phase!r}: allowed: None or a phase object with sigma, "
+                             "eval and sample (adobe_bsdf.phase)")
+        elif self.g != 0.0:
+            raise ValueError(f"g = {g!r} with phase = {phase!r}; allowed: g = 0 where a phase "
+                             "object is given (it carries its own asymmetry)")
+        self.phase = phase
         self.n_samples = _params.integer("n_samples", n_samples, 1)
         self.max_depth = _params.integer("max_depth", max_depth, 1)
         self.seed = _params.integer("seed", seed, 0)
@@ -210,7 +203,7 @@ class LayeredReference(Lobe):
 
     def __repr__(self) -> str:
         return (f"LayeredReference({self.top!r}, {self.base!r}, thickness={np.asarray(self.thickness).tolist()}, "
-                f"medium_albedo={self.medium_albedo.tolist()}, g={self.g}, "
+                f"medium_albedo={self.medium_albedo.tolist()}, phase={self.phase!r}, "
                 f"n_samples={self.n_samples})")
 
     def _param_shape(self):
@@ -239,15 +232,18 @@ class LayeredReference(Lobe):
             [self.seed] + [zlib.crc32(np.ascontiguousarray(a).tobytes()) for a in arrays])
 
     def _transmittance(self, dz, w):
-        """exp(-|dz| / |cos theta|) along ``w`` (0 in the tangent plane), ``(..., 1)``."""
-        with np.errstate(divide="ignore"):
-            return np.exp(-np.abs(dz) / np.abs(w[..., 2]))[..., None]
+        """exp(-|dz| sigma(w) / |cos theta|) along ``w`` (0 in the tangent plane),
+        ``(..., 1)``."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.exp(-np.abs(dz) * self.phase.sigma(w) / np.abs(w[..., 2]))
+        return np.where(np.isnan(t), 0.0, t)[..., None]  # 0 sigma / 0 cosine: blocked
 
     def _crossing(self, w):
-        """exp(-thickness_c / |cos theta|) of a crossing of the whole slab along ``w``, per
-        channel ``(..., 3)`` (0 in the tangent plane)."""
-        with np.errstate(divide="ignore"):
-            return np.exp(-self._tau / np.abs(w[..., 2:3]))
+        """exp(-thickness_c sigma(w) / |cos theta|) of a crossing of the whole slab along
+        ``w``, per channel ``(..., 3)`` (0 in the tangent plane)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.exp(-self._tau * (self.phase.sigma(w) / np.abs(w[..., 2]))[..., None])
+        return np.where(np.isnan(t), 0.0, t)
 
     @staticmethod
     def _flat(a, b):
@@ -334,18 +330,17 @@ class LayeredReference(Lobe):
                 break
             k = walks.pair
             if self._scatters:
-                zp, inside, stuck = walks.flight(rng, self._height)
+                zp, inside, stuck = walks.flight(rng, self._height, self.phase)
                 if np.any(inside):
                     j = np.flatnonzero(inside)
                     kj, w, beta = k[j], walks.w[j], walks.beta[j]
                     # next event through the exit along the presampled direction
-                    p = henyey_greenstein(-w, -x_wi[kj], self.g)
+                    p = self.phase.eval(-w, -x_wi[kj])
                     wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p))
                     np.add.at(contribution, kj, beta * albedo * (p * wt)[:, None]
                               * self._transmittance(zp[j] - exit_z, x_wi[kj]) * x_f[kj])
-                    w_new, p_new = sample_henyey_greenstein(-w, rng.random((len(j), 2)),
-                                                            self.g)
-                    beta = beta * albedo  # p / pdf = 1
+                    w_new, p_new = self.phase.sample(-w, rng.random((len(j), 2)))
+                    beta = beta * albedo * (p_new > 0.0)[:, None]  # p / pdf = 1
                     if not exit_smooth:
                         h = np.flatnonzero((w_new[:, 2] > 0.0) == exits_top)  # to the exit
                         if len(h):
@@ -509,12 +504,11 @@ class LayeredReference(Lobe):
             if not len(walks):
                 break
             if self._scatters:
-                zp, inside, stuck = walks.flight(rng, self._height)
+                zp, inside, stuck = walks.flight(rng, self._height, self.phase)
                 j = np.flatnonzero(inside)
                 if len(j):
-                    w_new, p_new = sample_henyey_greenstein(-walks.w[j],
-                                                            rng.random((len(j), 2)), self.g)
-                    walks.beta[j] = walks.beta[j] * albedo
+                    w_new, p_new = self.phase.sample(-walks.w[j], rng.random((len(j), 2)))
+                    walks.beta[j] = walks.beta[j] * albedo * (p_new > 0.0)[:, None]
                     walks.w[j] = w_new
                     path_pdf[j] = path_pdf[j] * p_new
                     delta[j] = False

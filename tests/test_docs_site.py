@@ -18,7 +18,8 @@ MODULES = ("adobe_bsdf", "adobe_bsdf.bsdf", "adobe_bsdf.composition", "adobe_bsd
            "adobe_bsdf.haze", "adobe_bsdf.hazy", "adobe_bsdf.dispersion", "adobe_bsdf.spectral",
            "adobe_bsdf.media", "adobe_bsdf.quadrature", "adobe_bsdf.tables", "adobe_bsdf.render",
            "adobe_bsdf.plot", "adobe_bsdf.validation", "adobe_bsdf.validation.cases",
-           "adobe_bsdf.config", "adobe_bsdf.darkening", "adobe_bsdf.layered", "adobe_bsdf.io",
+           "adobe_bsdf.config", "adobe_bsdf.darkening", "adobe_bsdf.layered", "adobe_bsdf.phase",
+           "adobe_bsdf.io",
            "adobe_bsdf.thin_film")
 
 

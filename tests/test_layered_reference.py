@@ -7,8 +7,9 @@ from scipy import integrate
 from adobe_bsdf.bsdf import Flags
 from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.layered import LayeredReference, henyey_greenstein, sample_henyey_greenstein
-from adobe_bsdf.lobes import Conductor, Dielectric, DielectricMS, Lambert
+from adobe_bsdf.lobes import Conductor, Dielectric, DielectricMS, Lambert, Sheen
 from adobe_bsdf.media import half_space_albedo
+from adobe_bsdf.phase import FibreMicroflakes
 
 #: agreement within this many standard errors (the estimates are seeded: each check is fixed)
 SIGMAS = 3.0
@@ -322,3 +323,37 @@ def test_walk_is_sample_without_the_pdf_estimate():
     np.testing.assert_array_equal(w.weight, s.weight)
     np.testing.assert_array_equal(w.flags, s.flags)
     assert np.all((w.pdf > 0.0) == (s.pdf > 0.0))
+
+
+# -- a slab of fibre microflakes (the fuzz) -----------------------------------------------------
+@pytest.mark.parametrize("r", [0.2, 0.6, 1.0])
+def test_single_scattering_by_fibre_flakes_is_the_sheen_formula(r):
+    """One scattering in a slab of optical thickness 1 over a black base, the walks cut after
+    their first event: f = D(h) G / (4 cos_i cos_o), G = (1 - exp(-(Lambda_i + Lambda_o))) /
+    (Lambda_i + Lambda_o), the single scattering [Kutz2021, eqs. 15-18] writes in closed form
+    (``Sheen`` with c = 1, p = 1)."""
+    wo, wi = pairs()
+    layer = LayeredReference(Dielectric(1.0, 0.0), Lambert(0.0), thickness=1.0,
+                             medium_albedo=1.0, phase=FibreMicroflakes(r), max_depth=1,
+                             n_samples=4096)
+    f, err = layer.eval_with_error(wo, wi)
+    expected = Sheen(1.0, r, c=1.0, p=1.0).eval(wo, wi)
+    assert np.all(err > 0.0)
+    assert_within(f, err, expected)
+
+
+@pytest.mark.parametrize("r", [0.1, 0.5])
+def test_white_fibre_flakes_over_a_white_base_keep_the_energy(r):
+    layer = LayeredReference(Dielectric(1.0, 0.0), Lambert(1.0), thickness=1.0,
+                             medium_albedo=1.0, phase=FibreMicroflakes(r))
+    E, err = layer.albedo(sph(np.array([1.0, 0.3, 0.02]), 0.4), method="mc", n_samples=20_000,
+                          return_error=True)
+    assert_within(E, err + 1e-12, 1.0)
+
+
+def test_a_phase_object_is_checked():
+    with pytest.raises(ValueError, match="phase = 'fog'"):
+        LayeredReference(Dielectric(1.5, 0.3), Lambert(0.8), phase="fog")
+    with pytest.raises(ValueError, match="g = 0.3 with phase"):
+        LayeredReference(Dielectric(1.5, 0.3), Lambert(0.8), g=0.3,
+                         phase=FibreMicroflakes(0.5))
