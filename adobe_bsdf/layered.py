@@ -51,6 +51,20 @@ def _power(a, b):
     return np.where(a2 > 0.0, a2 / np.where(a2 + b2 > 0.0, a2 + b2, 1.0), 0.0)
 
 
+def _stochastic(lobe: Lobe) -> bool:
+    """Whether ``lobe``'s values are Monte-Carlo estimates (a ``LayeredReference``, or a
+    structure of them): its sample weight is an unbiased estimate, not f |cos| / pdf."""
+    return not lobe.weight_is_ratio
+
+
+def _draw(lobe: Lobe, wo, u) -> BSDFSample:
+    """A sample of ``lobe`` for a walk: its ``_draw`` where it has one (a stochastic lobe:
+    the direction and an unbiased weight, without the pdf estimate, which a walk needs only
+    for its bookkeeping), else its ``_sample``."""
+    draw = getattr(lobe, "_draw", None)
+    return lobe._sample(wo, u) if draw is None else draw(wo, u)
+
+
 #: directions (both sides) and uniforms at which ``_specular`` probes a lobe's sampler
 _PROBE_MU = np.array([1.0, 0.7, 0.3, 0.05, -0.05, -0.3, -0.7, -1.0])
 _PROBE_U = np.array([[0.1, 0.2, 0.3], [0.5, 0.5, 0.5], [0.9, 0.7, 0.1], [0.99, 0.05, 0.8]])
@@ -301,9 +315,9 @@ class LayeredReference(Lobe):
         wo_w, wi_w = wo[pair], wi[pair]
         contribution = np.zeros((n * S, 3))
         # the way in: a transmission sample of the top from wo
-        s = self.top._sample(wo_w, rng.random((n * S, 3)))
+        s = _draw(self.top, wo_w, rng.random((n * S, 3)))
         # the way out: a transmission sample of the exit from wi (light's direction, adjoint)
-        x = exit_._sample(wi_w, rng.random((n * S, 3)))
+        x = _draw(exit_, wi_w, rng.random((n * S, 3)))
         x_w = x.weight * exit_._energy_scale_rgb(wi_w, x.wi)  # f(x.wi, wi) |cos| / pdf
         with np.errstate(divide="ignore", invalid="ignore"):
             x_f = x_w / np.abs(x.wi[:, 2:3])  # f(x.wi, wi) / pdf: a slab vertex has no cosine
@@ -319,6 +333,9 @@ class LayeredReference(Lobe):
         x_delta = (x.flags & _DELTA) != 0
         exit_smooth, other_smooth = ((self._top_smooth, self._base_smooth) if exits_top else
                                       (self._base_smooth, self._top_smooth))
+        # a stochastic lobe's densities are estimates, which would not weigh the two
+        # strategies consistently: next events then take the exit sample alone (weight 1)
+        exit_only = _stochastic(exit_) or _stochastic(other)
         albedo = self.medium_albedo
         for depth in range(self.max_depth):
             if not len(walks):
@@ -336,12 +353,12 @@ class LayeredReference(Lobe):
                     kj, w, beta = k[j], walks.w[j], walks.beta[j]
                     # next event through the exit along the presampled direction
                     p = self.phase.eval(-w, -x_wi[kj])
-                    wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p))
+                    wt = np.where(x_delta[kj] | _stochastic(exit_), 1.0, _power(x_pdf[kj], p))
                     np.add.at(contribution, kj, beta * albedo * (p * wt)[:, None]
                               * self._transmittance(zp[j] - exit_z, x_wi[kj]) * x_f[kj])
                     w_new, p_new = self.phase.sample(-w, rng.random((len(j), 2)))
                     beta = beta * albedo * (p_new > 0.0)[:, None]  # p / pdf = 1
-                    if not exit_smooth:
+                    if not (exit_smooth or _stochastic(exit_)):
                         h = np.flatnonzero((w_new[:, 2] > 0.0) == exits_top)  # to the exit
                         if len(h):
                             kh = kj[h]
@@ -368,14 +385,17 @@ class LayeredReference(Lobe):
                     continue
                 kj, w, beta = k[j], walks.w[j], walks.beta[j]
                 if is_other and not other_smooth:  # next event along the presampled wi
-                    f_o, p_o = other._eval_pdf(-w, -x_wi[kj])
-                    wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p_o))
+                    if exit_only:
+                        f_o, wt = other._eval(-w, -x_wi[kj]), np.ones(len(j))
+                    else:
+                        f_o, p_o = other._eval_pdf(-w, -x_wi[kj])
+                        wt = np.where(x_delta[kj], 1.0, _power(x_pdf[kj], p_o))
                     np.add.at(contribution, kj, beta * f_o * wt[:, None]
                               * self._crossing(x_wi[kj]) * x_w[kj])
-                bs = lobe._sample(-w, rng.random((len(j), 3)))
+                bs = _draw(lobe, -w, rng.random((len(j), 3)))
                 back = (bs.pdf > 0.0) & (bs.wi[:, 2] * w[:, 2] < 0.0)  # reflected, not out
                 beta = beta * bs.weight
-                if is_other and not exit_smooth:  # next event along the sampled direction
+                if is_other and not (exit_smooth or exit_only):  # next event along bs.wi
                     h = np.flatnonzero(back)
                     if len(h):
                         kh, w_new = kj[h], bs.wi[h]
@@ -415,17 +435,17 @@ class LayeredReference(Lobe):
         pair = np.repeat(np.arange(n), S)
         wo_w, wi_w = wo[pair], wi[pair]
         top, base = self.top, self.base
-        s = top._sample(wo_w, rng.random((n * S, 3)))
+        s = _draw(top, wo_w, rng.random((n * S, 3)))
         total = np.zeros(n * S)
         if exits_top:  # top-base-top
-            x = top._sample(wi_w, rng.random((n * S, 3)))
+            x = _draw(top, wi_w, rng.random((n * S, 3)))
             ok = (s.pdf > 0) & (s.wi[:, 2] < 0) & (x.pdf > 0) & (x.wi[:, 2] < 0)
             j = np.flatnonzero(ok)
             a, b = -s.wi[j], -x.wi[j]
             if self._top_smooth:
                 total[j] = base._pdf(a, b)
             else:
-                r = base._sample(a, rng.random((len(j), 3)))
+                r = _draw(base, a, rng.random((len(j), 3)))
                 good = (r.pdf > 0) & (r.wi[:, 2] > 0)
                 t_pdf = top._pdf(-r.wi, wi_w[j])
                 if self._base_smooth:
@@ -435,7 +455,7 @@ class LayeredReference(Lobe):
                     total[j] = np.where(good, _power(x.pdf[j], r_pdf) * r_pdf
                                         + _power(r.pdf, t_pdf) * t_pdf, 0.0)
         else:  # top-base, out of the bottom
-            x = base._sample(wi_w, rng.random((n * S, 3)))
+            x = _draw(base, wi_w, rng.random((n * S, 3)))
             ok = (s.pdf > 0) & (s.wi[:, 2] < 0) & (x.pdf > 0) & (x.wi[:, 2] > 0)
             j = np.flatnonzero(ok)
             if self._top_smooth:
@@ -469,6 +489,10 @@ class LayeredReference(Lobe):
             (_params.direction_shape("wo", wo), lambda a: _params.check_unit("wo", a)),
             (_params.uniforms_shape("u", u, 3), lambda a: _params.check_uniform("u", a))))
 
+    def _draw(self, wo, u) -> BSDFSample:
+        """``walk`` on validated ``(n, 3)`` arrays: how an enclosing walk samples this one."""
+        return self._walked(wo, u)[2]
+
     def _walked(self, wo, u):
         """``(batch, wo (n, 3), BSDFSample (n, ...))`` of ``_walk_sample`` on the flattened
         batch, failed walks zeroed."""
@@ -480,7 +504,7 @@ class LayeredReference(Lobe):
         ``LayeredBxDF::Sample_f``; ``pdf`` is the product of the interfaces' densities (the
         discrete probability of a delta path)."""
         rng = self._rng(wo, u)
-        s = self.top._sample(wo, u)
+        s = _draw(self.top, wo, u)
         wi, weight, pdf, flags = s.wi.copy(), s.weight.copy(), s.pdf.copy(), s.flags.copy()
         through = (s.pdf > 0.0) & (s.wi[:, 2] < 0.0) & (wo[:, 2] > 0.0)
         wi[through], weight[through], pdf[through], flags[through] = 0.0, 0.0, 0.0, 0
@@ -525,7 +549,7 @@ class LayeredReference(Lobe):
                 if not len(j):
                     continue
                 w = walks.w[j]
-                bs = lobe._sample(-w, rng.random((len(j), 3)))
+                bs = _draw(lobe, -w, rng.random((len(j), 3)))
                 good = bs.pdf > 0.0
                 out = good & (bs.wi[:, 2] * w[:, 2] > 0.0)  # transmitted: out of the layer
                 beta = walks.beta[j] * bs.weight

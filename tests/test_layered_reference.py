@@ -357,3 +357,37 @@ def test_a_phase_object_is_checked():
     with pytest.raises(ValueError, match="g = 0.3 with phase"):
         LayeredReference(Dielectric(1.5, 0.3), Lambert(0.8), g=0.3,
                          phase=FibreMicroflakes(0.5))
+
+
+# -- layers over layers: a stochastic base ------------------------------------------------------
+def _stochastic_lambert(rho):
+    """Lambert(rho) under an index-matched smooth top: the same BSDF, as a random walk."""
+    return LayeredReference(Dielectric(1.0, 0.0), Lambert(rho), n_samples=1)
+
+
+def test_a_smooth_coat_over_a_stochastic_base_is_the_plastic_formula():
+    wo, wi = pairs()
+    eta, rho = 1.5, 0.8
+    layer = LayeredReference(Dielectric(eta, 0.0), _stochastic_lambert(rho), n_samples=4096)
+    assert not layer.base.weight_is_ratio
+    f, err = layer.eval_with_error(wo, wi)
+    mo, mi = wo[:, 2:3], wi[:, 2:3]
+    expected = ((1.0 - _dielectric(mo, eta)) * (1.0 - _dielectric(mi, eta)) * rho
+                / (np.pi * eta**2 * (1.0 - rho * internal_average(eta))))
+    assert np.all(err > 0.0)
+    assert_within(f, err, expected)
+
+
+def test_a_rough_coat_over_a_stochastic_base_is_the_same_layer():
+    """The two estimates (one over the lobe, one over the same lobe as a walk) agree within
+    their combined errors; a white one keeps the energy, its walks nested."""
+    wo, wi = pairs()
+    top = DielectricMS(1.5, 0.3)
+    direct = LayeredReference(top, Lambert(0.7), n_samples=2048)
+    nested = LayeredReference(top, _stochastic_lambert(0.7), n_samples=2048, seed=5)
+    (f1, e1), (f2, e2) = direct.eval_with_error(wo, wi), nested.eval_with_error(wo, wi)
+    assert_within(f2 - f1, np.hypot(e1, e2), 0.0)
+    white = LayeredReference(top, _stochastic_lambert(1.0))
+    E, err = white.albedo(sph(np.array([0.9, 0.2]), 0.0), method="mc", n_samples=20_000,
+                          return_error=True)
+    assert np.all(np.abs(E - 1.0) <= 2e-3 + SIGMAS * err)
