@@ -498,7 +498,8 @@ class SupportLobe(Lobe):
 
 def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
     """``(mean, standard error)`` of ``n_samples`` energy-scaled sample weights per direction
-    (``albedo(method="mc")``).
+    (``albedo(method="mc")``; a stochastic lobe's ``_draw``, its sample without the pdf
+    estimate, where it has one).
 
     The samples are drawn in blocks of about ``config`` ``chunk_size`` pairs (the same
     uniforms, in the same order, as one draw of all of them), and the mean and variance are
@@ -509,11 +510,13 @@ def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
     batch = wo.shape[:-1]
     step = max(1, config.get_options().chunk_size // max(1, math.prod(batch)))
     count, mean, m2 = 0, 0.0, 0.0
+    # a stochastic lobe's walks without their pdf estimates (the same directions and weights)
+    draw = getattr(lobe, "_draw", lobe._sample)
     for start in range(0, n_samples, step):
         k = min(step, n_samples - start)
         u = rng.random((k, *batch, 3))
         w = np.broadcast_to(wo, u.shape)
-        s = lobe._sample(w, u)
+        s = draw(w, u)
         weight = s.weight * lobe._energy_scale_rgb(w, s.wi)
         block_mean = weight.mean(axis=0)
         block_m2 = np.square(weight - block_mean).sum(axis=0)

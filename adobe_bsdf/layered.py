@@ -481,17 +481,15 @@ class LayeredReference(Lobe):
         unbiased estimate of f |cos| / pdf, for Monte-Carlo energies), with ``pdf`` the product
         of the interfaces' densities along the walk (the discrete probability of a delta
         path). Cheaper than ``sample`` by the ``n_samples`` walks of each estimate."""
-        def walked(wo, u):
-            batch, _, s = self._walked(wo, u)
-            return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
-
-        return self._batched(walked, (
+        return self._batched(self._draw, (
             (_params.direction_shape("wo", wo), lambda a: _params.check_unit("wo", a)),
             (_params.uniforms_shape("u", u, 3), lambda a: _params.check_uniform("u", a))))
 
     def _draw(self, wo, u) -> BSDFSample:
-        """``walk`` on validated ``(n, 3)`` arrays: how an enclosing walk samples this one."""
-        return self._walked(wo, u)[2]
+        """``walk`` of validated arrays: how an enclosing walk, a mixture of walks or the
+        Monte-Carlo albedo samples this one."""
+        batch, _, s = self._walked(wo, u)
+        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
     def _walked(self, wo, u):
         """``(batch, wo (n, 3), BSDFSample (n, ...))`` of ``_walk_sample`` on the flattened
