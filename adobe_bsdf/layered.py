@@ -38,7 +38,7 @@ from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
 from adobe_bsdf.lobes.dielectric import interface_energy_scale
 from adobe_bsdf.phase import HenyeyGreenstein, henyey_greenstein, sample_henyey_greenstein
 
-__all__ = ["LayeredReference", "henyey_greenstein", "sample_henyey_greenstein"]
+__all__ = ["LayeredReference", "MixedReference", "henyey_greenstein", "sample_henyey_greenstein"]
 
 _DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
 #: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
@@ -586,3 +586,125 @@ class LayeredReference(Lobe):
     def _albedo_quadrature(self, wo, tol):
         raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
                          "estimate for a LayeredReference; use albedo(method='mc')")
+
+
+class MixedReference(Lobe):
+    """Patches side by side [Andersson2023, §Mixing], for parts that may be random walks:
+
+        f = sum_k w_k f_k,   weights w_k > 0 summing to 1.
+
+    ``eval`` and ``pdf`` are the weighted sums of the parts' (their estimates where they are
+    ``LayeredReference``s; ``eval_with_error`` combines the standard errors). ``sample``
+    picks part k with probability w_k (the first uniform, rescaled) and keeps its sample:
+    its weight is then an unbiased estimate of f |cos| / pdf of the mixture, as a walk's is;
+    its ``pdf`` is the mixture's, sum_k w_k pdf_k (w_k pdf_k for a delta sample). The
+    composition of ``composition.Mix`` instead weighs every sample by f / pdf of all the
+    parts, which for random walks would cost an estimate of each.
+
+    Parameters
+    ----------
+    parts : sequence of Lobe, with scalar parameters
+    weights : sequence of float in (0, 1], summing to 1
+    """
+
+    weight_is_ratio = False
+
+    def __init__(self, parts, weights):
+        parts, weights = list(parts), np.asarray(weights, dtype=np.float64)
+        if not parts or weights.shape != (len(parts),):
+            raise ValueError(f"weights = {weights.tolist()!r}: allowed one weight per part "
+                             f"({len(parts)} parts)")
+        for k, lobe in enumerate(parts):
+            if not isinstance(lobe, Lobe) or lobe._param_shape() != ():
+                raise ValueError(f"parts[{k}] = {lobe!r}: allowed a lobe with scalar "
+                                 "parameters")
+        if (not np.all((weights > 0.0) & (weights <= 1.0))
+                or abs(weights.sum() - 1.0) > 1e-12):
+            raise ValueError(f"weights = {weights.tolist()!r}: allowed weights in (0, 1] "
+                             "summing to 1")
+        self.parts, self.weights = parts, weights
+        self._edges = np.concatenate([[0.0], np.cumsum(weights)[:-1]])
+        flags = Flags.NONE
+        for lobe in parts:
+            flags |= lobe.flags
+        self.flags = flags
+
+    def __repr__(self) -> str:
+        return f"MixedReference({self.parts!r}, {self.weights.tolist()!r})"
+
+    def _param_shape(self):
+        return ()
+
+    @property
+    def eta(self):
+        """The index of the parts that transmit (they share it), else None."""
+        return next((lobe.eta for lobe in self.parts if lobe.eta is not None), None)
+
+    def _energy_scale(self, wo, wi):
+        if self.eta is None:
+            return super()._energy_scale(wo, wi)
+        return interface_energy_scale(self.eta, wo, wi)
+
+    def _sum(self, method, *args):
+        return sum(w * getattr(lobe, method)(*args)
+                   for w, lobe in zip(self.weights, self.parts, strict=True))
+
+    def _eval(self, wo, wi):
+        return self._sum("_eval", wo, wi)
+
+    def eval_with_error(self, wo, wi) -> tuple[np.ndarray, np.ndarray]:
+        """``(eval(wo, wi), standard error)``, RGB ``(..., 3)`` each; a part without
+        ``eval_with_error`` is exact."""
+        f, var = 0.0, 0.0
+        for w, lobe in zip(self.weights, self.parts, strict=True):
+            if hasattr(lobe, "eval_with_error"):
+                fk, ek = lobe.eval_with_error(wo, wi)
+            else:
+                fk = lobe.eval(wo, wi)
+                ek = np.zeros_like(fk)
+            f, var = f + w * fk, var + (w * ek) ** 2
+        return f, np.sqrt(var)
+
+    def _pdf(self, wo, wi):
+        return self._sum("_pdf", wo, wi)
+
+    def _eval_pdf(self, wo, wi):
+        return self._eval(wo, wi), self._pdf(wo, wi)
+
+    def _delta_albedo(self, wo):
+        return self._sum("_delta_albedo", wo)
+
+    def _picked(self, wo, u, draw: bool):
+        """Part k's sample (``_draw`` or ``_sample``) for each element, k drawn by u_0."""
+        batch = np.broadcast_shapes(wo.shape, u.shape)[:-1]
+        wo = np.broadcast_to(wo, batch + (3,)).reshape(-1, 3)
+        u = np.broadcast_to(u, batch + (3,)).reshape(-1, 3).copy()
+        k = np.searchsorted(self._edges, u[:, 0], side="right") - 1
+        u[:, 0] = np.clip((u[:, 0] - self._edges[k]) / self.weights[k], 0.0, np.nextafter(1, 0))
+        wi, weight = np.zeros_like(wo), np.zeros_like(wo)
+        pdf, flags = np.zeros(len(wo)), np.zeros(len(wo), dtype=np.int64)
+        for j, lobe in enumerate(self.parts):
+            idx = np.flatnonzero(k == j)
+            if len(idx):
+                s = _draw(lobe, wo[idx], u[idx]) if draw else lobe._sample(wo[idx], u[idx])
+                wi[idx], weight[idx], pdf[idx], flags[idx] = s.wi, s.weight, s.pdf, s.flags
+        return batch, wo, k, BSDFSample(wi, weight, pdf, flags)
+
+    def _sample(self, wo, u):
+        batch, wo, k, s = self._picked(wo, u, draw=False)
+        pdf = self.weights[k] * s.pdf
+        smooth = np.flatnonzero((s.flags != 0) & ((s.flags & _DELTA) == 0))
+        if len(smooth):
+            pdf[smooth] = self._pdf(wo[smooth], s.wi[smooth])
+        s = finished_sample(s.wi, s.weight, pdf, s.flags)
+        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+
+    def _draw(self, wo, u) -> BSDFSample:
+        """A sample without the mixture's pdf (w_k times the part's own stand-in)."""
+        batch, _, k, s = self._picked(wo, u, draw=True)
+        s = finished_sample(s.wi, s.weight, self.weights[k] * s.pdf, s.flags)
+        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+
+    def _albedo_quadrature(self, wo, tol):
+        raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
+                         "estimate for a MixedReference; use albedo(method='mc')")

@@ -14,6 +14,7 @@ MODULES = ("adobe_bsdf", "adobe_bsdf.bsdf", "adobe_bsdf.composition", "adobe_bsd
            "adobe_bsdf.fresnel", "adobe_bsdf.microfacet", "adobe_bsdf.lobes",
            "adobe_bsdf.materials", "adobe_bsdf.materials.spec", "adobe_bsdf.materials.asm",
            "adobe_bsdf.materials.openpbr", "adobe_bsdf.materials.openpbr.mapping",
+           "adobe_bsdf.materials.openpbr.transport",
            "adobe_bsdf.materials.openpbr.draft",
            "adobe_bsdf.haze", "adobe_bsdf.hazy", "adobe_bsdf.dispersion", "adobe_bsdf.spectral",
            "adobe_bsdf.media", "adobe_bsdf.quadrature", "adobe_bsdf.tables", "adobe_bsdf.render",

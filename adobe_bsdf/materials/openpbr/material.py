@@ -216,6 +216,16 @@ class OpenPBRSurface(Material):
         material.draft_differences = tuple(differences)
         return material
 
+    def reference(self, n_samples: int = 64, seed: int = 0):
+        """The material as the structure of slabs the specification describes, its light
+        followed by random walks (``transport.reference``; the choices are in
+        ``docs/openpbr.md``, "The structure itself"): a lobe with ``eval`` (an unbiased
+        estimate from ``n_samples`` walks per pair; ``eval_with_error``), ``pdf``, ``sample``
+        and ``albedo(method="mc")``, against which this fast model and any other OpenPBR
+        implementation can be measured. Slow on purpose; scalar parameters only."""
+        from adobe_bsdf.materials.openpbr import transport
+        return transport.reference(self, n_samples, seed)
+
     # -- the interior ----------------------------------------------------------------------
     def media(self) -> dict:
         """The interior media with their presence weights, ``{name: (weight, Medium)}``:
