@@ -51,6 +51,15 @@ def _power(a, b):
     return np.where(a2 > 0.0, a2 / np.where(a2 + b2 > 0.0, a2 + b2, 1.0), 0.0)
 
 
+def _scale_rgb(eta, wo, wi):
+    """``interface_energy_scale`` per colour channel ``(..., 3)`` (or broadcasting to it), for
+    one index or one per channel (a dispersive interface)."""
+    eta = np.asarray(eta)
+    if eta.ndim == 0:
+        return interface_energy_scale(eta, wo, wi)[..., None]
+    return interface_energy_scale(eta, wo[..., None, :], wi[..., None, :])
+
+
 def _stochastic(lobe: Lobe) -> bool:
     """Whether ``lobe``'s values are Monte-Carlo estimates (a ``LayeredReference``, or a
     structure of them): its sample weight is an unbiased estimate, not f |cos| / pdf."""
@@ -236,9 +245,14 @@ class LayeredReference(Lobe):
         return self.top.eta * self.base.eta
 
     def _energy_scale(self, wo, wi):
-        if self.eta is None:
+        if self.eta is None or np.ndim(self.eta):
             return super()._energy_scale(wo, wi)
         return interface_energy_scale(self.eta, wo, wi)
+
+    def _energy_scale_rgb(self, wo, wi):
+        if self.eta is None:
+            return super()._energy_scale_rgb(wo, wi)
+        return _scale_rgb(self.eta, wo, wi)
 
     def _rng(self, *arrays) -> np.random.Generator:
         """The generator of one call: ``seed`` and a checksum of its arguments."""
@@ -641,9 +655,14 @@ class MixedReference(Lobe):
         return next((lobe.eta for lobe in self.parts if lobe.eta is not None), None)
 
     def _energy_scale(self, wo, wi):
-        if self.eta is None:
+        if self.eta is None or np.ndim(self.eta):
             return super()._energy_scale(wo, wi)
         return interface_energy_scale(self.eta, wo, wi)
+
+    def _energy_scale_rgb(self, wo, wi):
+        if self.eta is None:
+            return super()._energy_scale_rgb(wo, wi)
+        return _scale_rgb(self.eta, wo, wi)
 
     def _sum(self, method, *args):
         return sum(w * getattr(lobe, method)(*args)

@@ -461,16 +461,22 @@ class OpenPBRSurface(Material):
                     film = ThinFilm(d, n_film, eta, model=self.thin_film_model)
                     glass = _mix(glass, self._hazed(self._sheet(eta, film), r), w)
             else:
-                glass = self._hazed(lambda alphas: self._glass(eta, GGX._new(*alphas)), r)
-                if self._film is not None:
-                    w, d, n_film = self._film
-
-                    def film(eta_c):
-                        return ThinFilm(d, n_film, eta_c, model=self.thin_film_model)
-                    glass = _mix(glass, self._hazed(
-                        lambda alphas: self._glass(eta, GGX._new(*alphas), film), r), w)
+                glass = self._bulk_glass(eta, r)
             built["transmission"] = _turned(self._retro(glass), phi)
         return _mix(opaque, built.get("transmission"), T)
+
+    def _bulk_glass(self, eta, r):
+        """The bulk translucent base at roughness ``r`` (``_glass``), hazed (``_hazed``) and
+        mixed with its filmed copy by thin_film_weight where there is a film."""
+        glass = self._hazed(lambda alphas: self._glass(eta, GGX._new(*alphas)), r)
+        if self._film is None:
+            return glass
+        w, d, n_film = self._film
+
+        def film(eta_c):
+            return ThinFilm(d, n_film, eta_c, model=self.thin_film_model)
+        return _mix(glass, self._hazed(
+            lambda alphas: self._glass(eta, GGX._new(*alphas), film), r), w)
 
     def _sheet(self, eta, film):
         """``make(alphas)`` of the thin-walled translucent base: ``ThinDielectric`` of

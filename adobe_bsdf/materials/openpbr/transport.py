@@ -49,9 +49,11 @@ from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 from adobe_bsdf.materials.openpbr import mapping
+from adobe_bsdf.materials.openpbr.material import _mix
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.phase import FibreMicroflakes
 from adobe_bsdf.sampling import cosine_hemisphere
+from adobe_bsdf.thin_film import ThinFilm
 
 __all__ = ["reference", "coat_optical_depth", "fuzz_flake_albedo", "diffuse_albedo",
            "FUZZ_ROUGHNESS_MIN", "HALF_SPACE_DEPTH", "SOLVER_WALKS"]
@@ -189,39 +191,48 @@ def diffuse_albedo(interface, color, n_walks: int = SOLVER_WALKS,
 
 # -- the structure ----------------------------------------------------------------------------
 class _Builder:
-    """The slabs of one material (scalar parameters), at a given index above the base."""
+    """The slabs of one material (scalar parameters ``p``). ``fasts`` maps the index above
+    the base (1, and coat_ior where there is a coat) to a fast model of the same inputs
+    without coat, fuzz or opacity at that index (coat_weight 1 with a smooth coat, which
+    roughens nothing): its metal lobe, and its film, haze and glass, are the base's own."""
 
-    def __init__(self, fast, n_samples, seed):
-        self.fast, self.p = fast, fast.params
-        self.n_samples, self.seed = n_samples, seed
-        self.user = self.p
+    def __init__(self, p, fasts, seed):
+        self.p, self.fasts, self.seed = p, fasts, seed
 
     def layer(self, top, base, **kwargs):
         """A ``LayeredReference``; an inner one (under another) takes one walk per call,
-        which the enclosing walks average."""
+        which the enclosing walks average (``reference`` sets the outermost ones')."""
         self.seed += 1
         return LayeredReference(top, base, n_samples=1, seed=self.seed, **kwargs)
 
-    def turned(self, lobe, tangent):
+    @staticmethod
+    def turned(lobe, tangent):
         phi = float(mapping.tangent_rotation(np.asarray(tangent)))
         return Rotated(lobe, phi) if phi else lobe
 
     def dielectric_interface(self, n_above):
-        """The base's rough dielectric interface, reflection and transmission, at
-        specular_ior / n_above modulated by specular_weight, its first reflection from above
-        tinted by specular_color."""
-        p = self.p
-        eta = mapping.specular_ior_modulation(p["specular_ior"] / n_above, p["specular_weight"])
-        alphas = mapping.anisotropic_alphas(p["specular_roughness"],
-                                            p["specular_roughness_anisotropy"])
-        lobe = DielectricMS._new(np.asarray(eta), GGX._new(*(np.asarray(a) for a in alphas)))
+        """``(lobe, eta)``: the base's rough dielectric interface, reflection and
+        transmission, at eta = specular_ior / n_above modulated by specular_weight, with the
+        thin film (mixed by thin_film_weight), the haze and the retroreflectivity of the
+        fast model's, its first reflection from above tinted by specular_color."""
+        p, fast = self.p, self.fasts[n_above]
+        eta = np.asarray(mapping.specular_ior_modulation(p["specular_ior"] / n_above,
+                                                         p["specular_weight"]))
+        r = p["specular_roughness"]
+        lobe = fast._hazed(lambda alphas: DielectricMS._new(eta, GGX._new(*alphas)), r)
+        if fast._film is not None:
+            w, d, n_film = fast._film
+            film = ThinFilm(d, n_film, eta, model=fast.thin_film_model)
+            lobe = _mix(lobe, fast._hazed(
+                lambda alphas: DielectricMS._new(eta, GGX._new(*alphas), film), r), w)
+        lobe = fast._retro(lobe)
         color = p["specular_color"]
         if np.any(color != 1.0):
-            lobe = TintedRefraction._new(lobe, np.ones(3), color, self.fast.spec == "dev_1.2")
-        return self.turned(lobe, p["geometry_tangent"]), float(eta)
+            lobe = TintedRefraction._new(lobe, np.ones(3), color, fast.spec == "dev_1.2")
+        return self.turned(lobe, p["geometry_tangent"]), eta
 
     def base(self, n_above):
-        p = self.p
+        p, fast = self.p, self.fasts[n_above]
         M, T, S = (float(p[k]) for k in ("base_metalness", "transmission_weight",
                                           "subsurface_weight"))
         parts = []
@@ -236,25 +247,18 @@ class _Builder:
                 m = media.openpbr_subsurface_medium(
                     p["subsurface_radius"], p["subsurface_radius_scale"],
                     p["subsurface_color"], p["subsurface_scatter_anisotropy"])
-                albedo = m.sigma_s / m.sigma_t
                 parts.append((self.layer(interface, Lambert(0.0), thickness=HALF_SPACE_DEPTH,
-                                         medium_albedo=albedo, g=float(m.g),
+                                         medium_albedo=m.sigma_s / m.sigma_t, g=float(m.g),
                                          max_depth=100_000), (1 - M) * (1 - T) * S))
             if T > 0.0:
-                parts.append((self.translucent(eta), (1 - M) * T))
+                glass = fast._retro(fast._bulk_glass(eta, p["specular_roughness"]))
+                parts.append((self.turned(glass, p["geometry_tangent"]), (1 - M) * T))
         if M > 0.0:
-            parts.append((self.fast.lobes["metal"], M))
+            parts.append((fast.lobes["metal"], M))
         return _mixed(parts)
 
-    def translucent(self, eta):
-        p = self.p
-        alphas = mapping.anisotropic_alphas(p["specular_roughness"],
-                                            p["specular_roughness_anisotropy"])
-        glass = self.fast._glass(np.asarray(eta), GGX._new(*(np.asarray(a) for a in alphas)))
-        return self.turned(glass, p["geometry_tangent"])
-
     def coat(self):
-        p = self.user
+        p = self.p
         n_c = float(p["coat_ior"])
         alphas = mapping.anisotropic_alphas(p["coat_roughness"], p["coat_roughness_anisotropy"])
         top = self.turned(DielectricMS._new(np.asarray(n_c),
@@ -263,8 +267,8 @@ class _Builder:
         tau = coat_optical_depth(top, p["coat_color"], seed=self.seed)
         return self.layer(top, self.base(n_c), thickness=tau)
 
-    def surface(self, p):
-        self.user = p
+    def surface(self):
+        p = self.p
         C, F = float(p["coat_weight"]), float(p["fuzz_weight"])
         coated = _mixed([(self.base(1.0) if C < 1.0 else None, 1.0 - C),
                          (self.coat() if C > 0.0 else None, C)])
@@ -305,19 +309,21 @@ def reference(surface, n_samples: int = 64, seed: int = 0):
     if surface.thin_walled:
         raise ValueError("geometry_thin_walled = True: the reference of a thin wall is not "
                          "built yet; allowed: False")
-    for name in _NOT_YET:
-        if np.any(np.asarray(p.get(name, 0.0)) != 0.0):
-            raise ValueError(f"{name} = {p[name]!r}: the reference does not follow it yet; "
-                             "allowed: 0")
-    # the base's own lobes (the metal, the translucent interface), not roughened by a coat
-    fast = type(surface)(spec=surface.spec, thin_film_model=surface.thin_film_model,
-                         **{**p, "coat_weight": 0.0, "fuzz_weight": 0.0,
-                            "geometry_opacity": 1.0})
-    return _outermost(_Builder(fast, n_samples, seed).surface(p), n_samples)
+    if surface._hazy and surface.haze_model == "barla2018":
+        raise ValueError("haze_model = 'barla2018': the reference follows the specification's "
+                         "haze only; allowed: 'dev_1.2'")
 
+    def fast(coat_weight):
+        return type(surface)(spec=surface.spec, thin_film_model=surface.thin_film_model,
+                             **{**p, "coat_weight": coat_weight, "coat_roughness": 0.0,
+                                "fuzz_weight": 0.0, "geometry_opacity": 1.0})
 
-#: inputs the reference does not follow yet (it refuses them rather than ignore them)
-_NOT_YET = ("thin_film_weight", "specular_haze", "specular_retroreflectivity")
+    fasts = {1.0: fast(0.0)}
+    if float(p["coat_weight"]) > 0.0:
+        fasts[float(p["coat_ior"])] = fast(1.0)
+    lobe = _outermost(_Builder(p, fasts, seed).surface(), n_samples)
+    # always a random-walk lobe (``eval_with_error``, ``_draw``), a bare slab's exactly
+    return lobe if isinstance(lobe, MixedReference) else MixedReference([lobe], [1.0])
 
 
 def _outermost(lobe, n_samples):
