@@ -415,3 +415,20 @@ def test_the_cost_page_smoke(tmp_path):
     assert conformance_cost.main(["--smoke", "--out", str(tmp_path)]) == 0
     page = (tmp_path / conformance_cost.NAME).read_text()
     assert "| ASM dielectric" in page and "conforms |" in page
+
+
+def test_a_random_walk_reference_judges_the_fast_openpbr_model():
+    """The structure itself as the reference (``OpenPBRSurface.reference``): its eval within
+    its Monte-Carlo error, its pdf not compared; a bare metal, where the fast model is the
+    structure, conforms; a coat, whose fast layering differs at grazing light, does not."""
+    from adobe_bsdf.materials import OpenPBRSurface, presets
+
+    metal = OpenPBRSurface(**presets.openpbr["copper"])
+    report = compare(metal.reference(), metal, n_samples=20_000, progress=False)
+    assert report.passed, report
+    checks = {c.name: c for c in report.checks}
+    assert checks["pdf"].passed is None and "estimate" in checks["pdf"].note
+    assert "Monte-Carlo estimate" in checks["eval"].note
+    coated = OpenPBRSurface(**presets.openpbr["coated blue"])
+    report = compare(coated.reference(), coated, n_samples=20_000, progress=False)
+    assert not {c.name: c for c in report.checks}["eval"].passed

@@ -162,21 +162,32 @@ def _finite_check(wo, wi, f, pdf, samples) -> Check:
 
 
 def _pointwise(name: str, reference, candidate, wo, wi, views, rtol: float,
-               keep=None) -> Check:
+               keep=None, noise=None, alpha: float = 0.01) -> Check:
     """Relative error of ``candidate`` against ``reference`` (``(n, k)``) at the pairs
-    (those of ``keep`` only, where given: the others are named in the note)."""
+    (those of ``keep`` only, where given: the others are named in the note). Where the
+    reference is a Monte-Carlo estimate with standard errors ``noise``, the part of each
+    difference within z of them is its error, z the two-sided normal quantile at ``alpha``
+    shared by all the values (Bonferroni)."""
     r = np.atleast_2d(np.asarray(reference, dtype=np.float64).reshape(len(wo), -1))
     c = np.atleast_2d(np.asarray(candidate, dtype=np.float64).reshape(len(wo), -1))
+    e = 0.0 if noise is None else np.asarray(noise, dtype=np.float64).reshape(r.shape)
     note = ""
     if keep is not None and not keep.all():
         note = (f"{int((~keep).sum())} of {len(keep)} pairs ill-conditioned in float32 left "
                 "out (validation.mitsuba.well_conditioned)")
         r, c, wo, wi = r[keep], c[keep], wo[keep], wi[keep]
+        e = e if noise is None else e[keep]
+    z = 0.0
+    if noise is not None:
+        z = float(stats.norm.isf(alpha / (2.0 * r.size)))
+        note = (note + "; " if note else "") + (
+            f"the reference is a Monte-Carlo estimate: differences within {z:.2f} of its "
+            f"standard errors are its own (Bonferroni over {r.size} values at {alpha:g})")
     view_index = _view_index(wo, views)
     peak = np.zeros((len(views), r.shape[1]))
     np.maximum.at(peak, view_index, np.abs(np.nan_to_num(r)))
     floor = FLOOR * peak[view_index] + 1e-300
-    error = np.abs(c - r) / (np.abs(r) + floor)
+    error = np.maximum(np.abs(c - r) - z * e, 0.0) / (np.abs(r) + floor)
     error = np.where(np.isfinite(error), error, np.inf)
     k = np.unravel_index(int(np.argmax(error)), error.shape)
     worst = float(error[k])
@@ -185,6 +196,11 @@ def _pointwise(name: str, reference, candidate, wo, wi, views, rtol: float,
              "reference": float(r[k]), "candidate": float(c[k])}
     return Check(name, worst <= rtol, "max relative error", worst, rtol, worst=where,
                  cause="" if worst <= rtol else _cause(name, r, c, wo, wi, floor), note=note)
+
+
+#: why a random-walk reference's pdf is not compared
+_WALKS_PDF = ("the reference follows random walks: its pdf is an estimate, not the density "
+              "of its samples, so the candidate's sampling is judged by its own pdf only")
 
 
 def _view_index(wo, views) -> np.ndarray:
@@ -329,8 +345,10 @@ def _reciprocity_check(reference: Lobe, candidate: Lobe, wo, wi, rtol: float,
     atol = FLOOR * scale
     if keep is not None:
         wo, wi = wo[keep], wi[keep]
-    ref = reciprocity_error(reference, wo, wi, rtol=1e-6, atol=atol)
-    if not ref.passed:
+    # a random-walk reference (None here) is reciprocal by physics, not to its estimates
+    ref = None if reference is None else reciprocity_error(reference, wo, wi, rtol=1e-6,
+                                                           atol=atol)
+    if ref is not None and not ref.passed:
         return Check("reciprocity", None, "max relative error", None, rtol,
                      note=f"the reference is not reciprocal ({ref.max_error:.2g})")
     cand = reciprocity_error(candidate, wo, wi, rtol=rtol, atol=atol)
@@ -345,7 +363,10 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
             same_sampling: bool = True, float32: bool = False, seed: int = 0,
             progress: bool = True) -> Report:
     """Judge ``candidate`` (a ``Candidate``: ``eval``, ``pdf``, ``sample`` in the library's
-    conventions) against ``reference`` (a lobe or material of the library).
+    conventions) against ``reference`` (a lobe or material of the library, or a structure
+    followed by random walks such as ``OpenPBRSurface(...).reference()``: its ``eval`` is
+    then compared within its Monte-Carlo error, its ``pdf``, an estimate, not at all, and
+    it is reciprocal by physics, not by its estimates).
 
     Parameters
     ----------
@@ -391,14 +412,22 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
     checks = []
     steps = ["pointwise", "samples", "chi2", "albedo", "reciprocity"]
     bar = tqdm(steps, desc="conformance", disable=None if progress else True, leave=False)
+    # a random-walk reference (``OpenPBRSurface.reference``): eval an estimate with its
+    # error, its pdf an estimate that is not its sampler's density, reciprocal by physics
+    walks = not ref.weight_is_ratio and hasattr(ref, "eval_with_error")
     try:
-        f_r, pdf_r = ref.eval(wo, wi), ref.pdf(wo, wi)
+        if walks:
+            (f_r, e_r), pdf_r = ref.eval_with_error(wo, wi), None
+        else:
+            f_r, e_r, pdf_r = ref.eval(wo, wi), None, ref.pdf(wo, wi)
         f_c, pdf_c = cand.eval(wo, wi), cand.pdf(wo, wi)
         bar.update()
         samples = _draw(cand, plan, min(plan.n_samples, 20_000))
         checks.append(_finite_check(wo, wi, f_c, pdf_c, samples))
-        checks.append(_pointwise("eval", f_r, f_c, wo, wi, views, rtol, keep))
-        if same_sampling:
+        checks.append(_pointwise("eval", f_r, f_c, wo, wi, views, rtol, keep, e_r, alpha))
+        if walks:
+            checks.append(Check("pdf", None, "max relative error", note=_WALKS_PDF))
+        elif same_sampling:
             checks.append(_pointwise("pdf", pdf_r, pdf_c, wo, wi, views, rtol, keep))
         else:
             checks.append(Check("pdf", None, "max relative error", note="same_sampling "
@@ -410,7 +439,10 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
                                 "answers pdf at the requested pairs only"))
         else:
             checks.append(_chi2_check("chi2 (own pdf)", cand, plan, alpha))
-        if same_sampling:
+        if walks:
+            checks.append(Check("chi2 (reference pdf)", None, "smallest p-value",
+                                note=_WALKS_PDF))
+        elif same_sampling:
             checks.append(_chi2_check("chi2 (reference pdf)", _SampledBy(cand, ref), plan,
                                       alpha))
         else:
@@ -420,7 +452,8 @@ def compare(reference, candidate, *, views=None, n_samples: int = 100_000,
         checks.append(_albedo_check(ref, cand, plan, alpha, albedo_atol))
         bar.update()
         scale = float(np.nanmax(np.abs(f_r))) if np.size(f_r) else 1.0
-        checks.append(_reciprocity_check(ref, cand, wo, wi, rtol, scale, keep))
+        checks.append(_reciprocity_check(None if walks else ref, cand, wo, wi, rtol, scale,
+                                         keep))
         bar.update()
     except CandidateError as exc:
         checks.append(Check("candidate", False, "error", cause=str(exc)))
