@@ -130,7 +130,34 @@ class _Walks:
         return zp, (zp > 0.0) & (zp < thickness), zp == self.z
 
 
-class LayeredReference(Lobe):
+class _RandomWalks(Lobe):
+    """What a lobe of random walks shares: scalar parameters; its sample weight an unbiased
+    estimate, not f |cos| / pdf of its estimates; the energy scale of the index ``eta`` of
+    what it transmits through (one per channel for a dispersive interface); no quadrature of
+    its estimated ``eval``."""
+
+    #: its sample weight is one walk's estimate, not f |cos| / pdf of its estimates
+    weight_is_ratio = False
+
+    def _param_shape(self):
+        return ()
+
+    def _energy_scale(self, wo, wi):
+        if self.eta is None or np.ndim(self.eta):
+            return super()._energy_scale(wo, wi)
+        return interface_energy_scale(self.eta, wo, wi)
+
+    def _energy_scale_rgb(self, wo, wi):
+        if self.eta is None:
+            return super()._energy_scale_rgb(wo, wi)
+        return _scale_rgb(self.eta, wo, wi)
+
+    def _albedo_quadrature(self, wo, tol):
+        raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
+                         f"estimate for a {type(self).__name__}; use albedo(method='mc')")
+
+
+class LayeredReference(_RandomWalks):
     """``top`` over ``base`` with the light followed between them (module docstring): the
     position-free Monte-Carlo layered BSDF of [Guo2018] as [Pharr2023, §14.3] writes it.
 
@@ -168,9 +195,6 @@ class LayeredReference(Lobe):
         Bounces after which a walk stops.
     seed : int >= 0
     """
-
-    #: its sample weight is one walk's estimate, not f |cos| / pdf of its estimates
-    weight_is_ratio = False
 
     def __init__(self, top: Lobe, base: Lobe, thickness=0.0, medium_albedo=0.0, g=0.0,
                  n_samples: int = 64, max_depth: int = 256, seed: int = 0, phase=None):
@@ -225,12 +249,10 @@ class LayeredReference(Lobe):
         self.flags = flags
 
     def __repr__(self) -> str:
-        return (f"LayeredReference({self.top!r}, {self.base!r}, thickness={np.asarray(self.thickness).tolist()}, "
+        thickness = np.asarray(self.thickness).tolist()
+        return (f"LayeredReference({self.top!r}, {self.base!r}, thickness={thickness}, "
                 f"medium_albedo={self.medium_albedo.tolist()}, phase={self.phase!r}, "
                 f"n_samples={self.n_samples})")
-
-    def _param_shape(self):
-        return ()
 
     @property
     def _scatters(self) -> bool:
@@ -243,16 +265,6 @@ class LayeredReference(Lobe):
         if self.top.eta is None or self.base.eta is None:
             return None
         return self.top.eta * self.base.eta
-
-    def _energy_scale(self, wo, wi):
-        if self.eta is None or np.ndim(self.eta):
-            return super()._energy_scale(wo, wi)
-        return interface_energy_scale(self.eta, wo, wi)
-
-    def _energy_scale_rgb(self, wo, wi):
-        if self.eta is None:
-            return super()._energy_scale_rgb(wo, wi)
-        return _scale_rgb(self.eta, wo, wi)
 
     def _rng(self, *arrays) -> np.random.Generator:
         """The generator of one call: ``seed`` and a checksum of its arguments."""
@@ -597,12 +609,10 @@ class LayeredReference(Lobe):
             E[a:b] = energy.reshape(-1, self.n_samples, 3).mean(1)
         return E.reshape(wo.shape[:-1] + (3,))
 
-    def _albedo_quadrature(self, wo, tol):
-        raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
-                         "estimate for a LayeredReference; use albedo(method='mc')")
 
 
-class MixedReference(Lobe):
+
+class MixedReference(_RandomWalks):
     """Patches side by side [Andersson2023, §Mixing], for parts that may be random walks:
 
         f = sum_k w_k f_k,   weights w_k > 0 summing to 1.
@@ -620,8 +630,6 @@ class MixedReference(Lobe):
     parts : sequence of Lobe, with scalar parameters
     weights : sequence of float in (0, 1], summing to 1
     """
-
-    weight_is_ratio = False
 
     def __init__(self, parts, weights):
         parts, weights = list(parts), np.asarray(weights, dtype=np.float64)
@@ -646,23 +654,10 @@ class MixedReference(Lobe):
     def __repr__(self) -> str:
         return f"MixedReference({self.parts!r}, {self.weights.tolist()!r})"
 
-    def _param_shape(self):
-        return ()
-
     @property
     def eta(self):
         """The index of the parts that transmit (they share it), else None."""
         return next((lobe.eta for lobe in self.parts if lobe.eta is not None), None)
-
-    def _energy_scale(self, wo, wi):
-        if self.eta is None or np.ndim(self.eta):
-            return super()._energy_scale(wo, wi)
-        return interface_energy_scale(self.eta, wo, wi)
-
-    def _energy_scale_rgb(self, wo, wi):
-        if self.eta is None:
-            return super()._energy_scale_rgb(wo, wi)
-        return _scale_rgb(self.eta, wo, wi)
 
     def _sum(self, method, *args):
         return sum(w * getattr(lobe, method)(*args)
@@ -724,6 +719,4 @@ class MixedReference(Lobe):
         s = finished_sample(s.wi, s.weight, self.weights[k] * s.pdf, s.flags)
         return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
-    def _albedo_quadrature(self, wo, tol):
-        raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
-                         "estimate for a MixedReference; use albedo(method='mc')")
+

@@ -35,7 +35,7 @@ def test_projected_area_is_the_flakes_visible_area(r):
     """sigma(w) = int <w, m>_+ D(m) dm [Heitz2015, eq. 4], D integrated independently."""
     phase = FibreMicroflakes(r)
     for w in WO:
-        area = _sphere_integral(lambda m: max(float(m @ w), 0.0) * phase._D(m))
+        area = _sphere_integral(lambda m, w=w: max(float(m @ w), 0.0) * phase._D(m))
         assert area == pytest.approx(float(phase.sigma(w)), rel=1e-6)
 
 
