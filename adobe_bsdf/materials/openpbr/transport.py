@@ -104,7 +104,7 @@ def coat_optical_depth(coat, color, n_walks: int = SOLVER_WALKS, seed: int = 0) 
         w = cosine_hemisphere(rng.random((len(k), 2)))  # the white Lambertian, up
         L = L + 1.0 / w[:, 2]
         t = coat._sample(-w, rng.random((len(k), 3)))
-        beta = beta * t.weight[:, 0] * coat._energy_scale(-w, t.wi)
+        beta = beta * t.weight[:, 0]  # in and out: the radiance scales cancel
         leave = (t.pdf > 0.0) & (t.wi[:, 2] > 0.0)
         weight[k[leave]], length[k[leave]] = beta[leave], L[leave]
         stay = (t.pdf > 0.0) & (t.wi[:, 2] < 0.0)
