@@ -24,7 +24,9 @@ view angle theta_o. The panels, drawn by ``plot`` and ``render``:
 
 The first three follow every change after ``DEBOUNCE`` seconds; the sphere and the
 quadrature wait until the controls have rested ``REST`` seconds (the last sphere stays
-until then). The title line shows the
+until then). With ``reference=True`` a material that has a structure followed by full light
+transport (``OpenPBRSurface.reference``) shows it too, at rest: points with error bars on the
+polar slice and its Monte-Carlo albedo at theta_o, the worst difference in the title line. The title line shows the
 lobes the current parameters make active (the rest are never built) and the time of one
 ``eval`` per pair. Without a widget front end (``ipywidgets`` missing, or outside a Jupyter
 kernel) ``explore`` says so and draws the panels once, for the given values. The figure is
@@ -51,6 +53,8 @@ REST = 0.8
 #: panel sizes: (hemisphere pixels, polar-slice directions, albedo cosines, sphere pixels,
 #: sphere samples per pixel)
 SIZES = {"normal": (64, 361, 32, 96, 16), "small": (16, 91, 8, 16, 2)}
+#: the structure's panels at rest: (slice points, walks per point, albedo samples)
+REFERENCE_SIZES = {"normal": (19, 256, 40_000), "small": (5, 16, 2_000)}
 #: pairs timed for the eval cost shown
 _TIMED = 4096
 #: room for the longest parameter names beside their controls
@@ -205,8 +209,10 @@ class Explorer:
     """
 
     def __init__(self, target, fixed: dict | None = None, size: str = "normal",
-                 theta_o: float = 45.0):
+                 theta_o: float = 45.0, reference: bool = False):
         widgets = _widgets()
+        #: whether the panels show the structure itself at rest (``Explorer`` docstring)
+        self.reference = bool(reference)
         self.target = explorable(target)
         spec = self.target.parameters
         self.fixed = dict(fixed or {})
@@ -305,6 +311,8 @@ class Explorer:
         data["hemisphere"] = np.ma.getdata(ax_hemi.images[0].get_array()).copy()
         ax_albedo = fig.add_subplot(2, 2, 3)
         data.update(self._albedo(lobe, wo, ax_albedo, n_mu, slow))
+        if slow and self.reference:
+            data.update(self._structure(lobe, wo, ax_slice, ax_albedo))
         ax_sphere = fig.add_subplot(2, 2, 4)
         if slow:
             self._sphere = render.sphere(lobe, env="sky", size=sphere_px, spp=spp, seed=0,
@@ -341,6 +349,32 @@ class Explorer:
         ax.axvline(wo[2], color="0.5", linestyle="--", linewidth=0.8)
         return out
 
+    def _structure(self, lobe, wo, ax_slice, ax_albedo) -> dict:
+        """The structure followed by full light transport (``lobe.reference()``), where the
+        material has one: its f |cos theta_i| at points of the polar slice with one standard
+        error, and its albedo at theta_o; "reference_slice", "reference_slice_error",
+        "reference_theta_i", "reference_albedo", "reference_albedo_error"."""
+        make = getattr(lobe, "reference", None)
+        if make is None:
+            return {"reference_unavailable": f"{type(lobe).__name__} has no structure"}
+        n_points, n_walks, n_albedo = REFERENCE_SIZES[self.size]
+        try:
+            structure = make(n_samples=n_walks)
+        except ValueError as exc:  # an input the structure does not follow yet
+            return {"reference_unavailable": str(exc)}
+        theta = np.linspace(-85.0, 85.0, n_points) * np.pi / 180.0
+        # ``plot.polar_slice``'s angle: theta_i > 0 on the mirror side (wo has azimuth 0)
+        wi = np.stack([-np.sin(theta), np.zeros_like(theta), np.cos(theta)], -1)
+        f, e = structure.eval_with_error(np.broadcast_to(wo, wi.shape), wi)
+        cos = np.abs(np.cos(theta))[:, None]
+        E, sigma = structure.albedo(wo, method="mc", n_samples=n_albedo, return_error=True)
+        ax_slice.errorbar(theta, (f * cos).max(-1), yerr=(e * cos).max(-1), fmt="k.",
+                          ms=3, lw=0.6, label="structure")
+        ax_albedo.errorbar([wo[2]] * 3, E, yerr=sigma, fmt="kx", ms=6, label="structure")
+        return {"reference_theta_i": theta, "reference_slice": f * cos,
+                "reference_slice_error": e * cos, "reference_albedo": E,
+                "reference_albedo_error": sigma}
+
     @staticmethod
     def _eval_ns(lobe, wo) -> float:
         wi = _timed_directions()
@@ -352,9 +386,14 @@ class Explorer:
     def _accuracy(data) -> str:
         if "table_error" not in data:
             return " — quadrature at rest"
-        return (f" — albedo at θo: table {np.max(data['albedo_at']):.5f}, quadrature "
+        text = (f" — albedo at θo: table {np.max(data['albedo_at']):.5f}, quadrature "
                 f"{np.max(data['quadrature']):.5f} ± {np.max(data['quadrature_error']):.1e}, "
                 f"table error {np.max(data['table_error']):.1e}")
+        if "reference_albedo" in data:
+            text += (f"; structure {np.max(data['reference_albedo']):.4f} ± "
+                     f"{np.max(data['reference_albedo_error']):.1e} (worst |Δ| "
+                     f"{np.max(np.abs(data['reference_albedo'] - data['quadrature'])):.4f})")
+        return text
 
     def _show(self):
         if not self.interactive:
@@ -384,12 +423,15 @@ def _front_end() -> bool:
     return shell is not None and hasattr(shell, "kernel")
 
 
-def explore(target, size: str = "normal", theta_o: float = 45.0, **fixed):
-    """Open ``target`` with controls for every parameter not in ``fixed`` (module docstring).
+def explore(target, size: str = "normal", theta_o: float = 45.0, reference: bool = False,
+            **fixed):
+    """Open ``target`` with controls for every parameter not in ``fixed`` (module docstring);
+    ``reference=True`` adds, at rest, the structure followed by full light transport where
+    the material has one (``OpenPBRSurface.reference``).
 
     Returns the ``Explorer`` (shown in the notebook), or, without a widget front end, the
     matplotlib Figure of the panels for the given values (with a message saying why)."""
-    explorer = Explorer(target, fixed, size, theta_o)
+    explorer = Explorer(target, fixed, size, theta_o, reference)
     if not explorer.interactive:
         explorer.update(slow=True)
         print("explore: no widget front end (ipywidgets in a Jupyter kernel); the panels "

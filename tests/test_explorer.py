@@ -208,3 +208,28 @@ def test_changes_are_debounced_and_the_slow_panels_wait_for_rest(monkeypatch):
     assert [slow for _, slow in calls] == [False, True]
     fast_at, slow_at = calls[0][0], calls[1][0]
     assert 0.07 <= fast_at < slow_at and slow_at >= 0.17  # measured from the first change
+
+
+def test_the_structure_itself_appears_at_rest():
+    """``reference=True``: at rest the panels add the structure followed by full light
+    transport; for a bare metal, whose structure is its lobe, its slice is the fast slice
+    bit for bit (error 0) and its albedo agrees with the quadrature within 4 errors + 2e-3."""
+    explorer = Explorer("OpenPBRSurface", {"base_metalness": 1.0}, size="small",
+                        reference=True)
+    assert "reference_albedo" not in explorer.update()
+    data = explorer.update(slow=True)
+    lobe = explorer.lobe()
+    theta = data["reference_theta_i"]
+    wo = np.array([np.sin(np.radians(45.0)), 0.0, np.cos(np.radians(45.0))])
+    wi = np.stack([-np.sin(theta), np.zeros_like(theta), np.cos(theta)], -1)
+    np.testing.assert_array_equal(data["reference_slice"],
+                                  lobe.eval(wo, wi) * np.abs(np.cos(theta))[:, None])
+    np.testing.assert_array_equal(data["reference_slice_error"], 0.0)
+    assert np.all(np.abs(data["reference_albedo"] - data["quadrature"])
+                  <= 2e-3 + 4.0 * data["reference_albedo_error"])
+    assert "structure" in explorer.status.value
+
+
+def test_a_target_without_a_structure_says_so():
+    explorer = Explorer("HazyGloss", size="small", reference=True)
+    assert "no structure" in explorer.update(slow=True)["reference_unavailable"]
