@@ -41,6 +41,8 @@ from adobe_bsdf.phase import HenyeyGreenstein, henyey_greenstein, sample_henyey_
 __all__ = ["LayeredReference", "MixedReference", "henyey_greenstein", "sample_henyey_greenstein"]
 
 _DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
+#: the largest density a walk's product of densities reports (near-delta paths saturate)
+_PDF_MAX = float(np.finfo(np.float64).max)
 #: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
 _UNIFORM_SHARE = 0.1
 
@@ -558,7 +560,8 @@ class LayeredReference(_RandomWalks):
                     w_new, p_new = self.phase.sample(-walks.w[j], rng.random((len(j), 2)))
                     walks.beta[j] = walks.beta[j] * albedo * (p_new > 0.0)[:, None]
                     walks.w[j] = w_new
-                    path_pdf[j] = path_pdf[j] * p_new
+                    with np.errstate(over="ignore"):
+                        path_pdf[j] = np.minimum(path_pdf[j] * p_new, _PDF_MAX)
                     delta[j] = False
                 walks.z = np.where(inside, zp, np.clip(zp, 0.0, self._height))
                 at = ~inside & ~stuck
@@ -577,7 +580,8 @@ class LayeredReference(_RandomWalks):
                 good = bs.pdf > 0.0
                 out = good & (bs.wi[:, 2] * w[:, 2] > 0.0)  # transmitted: out of the layer
                 beta = walks.beta[j] * bs.weight
-                p = path_pdf[j] * bs.pdf
+                with np.errstate(over="ignore"):  # a near-delta path's density saturates
+                    p = np.minimum(path_pdf[j] * bs.pdf, _PDF_MAX)
                 d = delta[j] & ((bs.flags & _DELTA) != 0)
                 o = np.flatnonzero(out)
                 if len(o):

@@ -149,7 +149,7 @@ def _slices(names, n_eval, n_theta):
 
 
 def compute(smoke: bool):
-    n_mc, n_eval, n_pairs = (2_000, 8, 4) if smoke else (100_000, 256, 16)
+    n_mc, n_eval, n_pairs = (2_000, 8, 4) if smoke else (40_000, 128, 12)
     pairs = _pairs(n_pairs)
     examples, refused = {}, {}
     names = list(presets.openpbr)[:3] if smoke else list(presets.openpbr)

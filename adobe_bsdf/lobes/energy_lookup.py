@@ -413,8 +413,9 @@ def slice_source(distribution: GGX) -> str:
 
 def _slice(alpha: float, ratio: float, eta: float, source: str):
     """The slice of (``alpha``, ``ratio``, index ratio ``eta``) from ``source``: "grid"
-    (``dielectric_grid.grid_slice``, or where the index is off the grid, the computed
-    slice) or "exact" (``dielectric_slice``, computed once per process)."""
+    (``dielectric_grid.grid_slice``, or where the library does not read the grid, nearly
+    index-matched or nearly one-dimensional interfaces, ``dielectric_grid.interpolated``,
+    the computed slice) or "exact" (``dielectric_slice``, computed once per process)."""
     if source == "grid":
         piece = dielectric_grid.grid_slice(alpha, ratio, eta)
         if piece is not None:

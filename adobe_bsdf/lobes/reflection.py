@@ -858,9 +858,10 @@ class DielectricReflection(MicrofacetReflection):
         under it would gain energy: there E is ``quadrature.sampled_albedo`` (32 x 32
         visible normals per direction), interpolated from a grid over wo built once per lobe
         (``top_albedo.TopAlbedoGrid``; textured parameters: the rule at every distinct
-        ``wo``), or, built exact, the slice's."""
+        ``wo``), or, built exact, the slice's (a slice read from the grid is not used here:
+        E_R alone is the coarsest part of a slice, ``docs/energy_models.md``)."""
         d = self.distribution
-        if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.slices:
+        if np.all((d.alpha_x == d.alpha_y) | d.smooth) or self.slices == "exact":
             return super()._top_albedo(wo)
         if self._param_shape() != ():
             return quadrature.sampled_albedo(self, wo)
