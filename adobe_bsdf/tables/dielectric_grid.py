@@ -88,12 +88,11 @@ def _axes(eta_lo: float, eta_hi: float) -> tuple[Axis, Axis, Axis]:
 #: the two grids' axes (q_alpha, q_ratio, q_eta)
 HALVES = {"below": _axes(ETA_MIN, _ROOT2 * (1.0 - SQRT2_GAP)),
           "above": _axes(_ROOT2 * (1.0 + SQRT2_GAP), ETA_MAX)}
-#: where the interpolation starts: the grid's second index ratio (about 1.031) and third
-#: roughness ratio (about 0.037). Across the cells below them the energy turns too fast for
-#: the cubic stencil at grazing cosines: that of a nearly index-matched interface (white
-#: furnace off by up to 1.3e-2 below cos 0.1), and that of a nearly one-dimensional one (up
-#: to 6.7e-2 at cos 1e-3); ``benchmarks.anisotropic_grid`` measures both. An interface there
-#: computes its own slice, as one below ``ETA_MIN`` does.
+#: where the interpolation starts: the grid's second index ratio and third roughness ratio.
+#: Across the cells below them the energy turns too fast for the cubic stencil at grazing
+#: cosines, that of a nearly index-matched interface and that of a nearly one-dimensional
+#: one, and the white furnace misses by several times 2e-3. An interface there computes
+#: its own slice, as one below ``ETA_MIN`` does.
 ETA_INTERPOLATED = float(1.0 + np.exp(HALVES["below"][2].nodes()[1]) - ETA_OFFSET)
 RATIO_INTERPOLATED = float(np.exp(HALVES["below"][1].nodes()[2]) - RATIO_OFFSET)
 
