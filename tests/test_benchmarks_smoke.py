@@ -278,6 +278,17 @@ def test_openpbr_report_writes_its_page(tmp_path):
         assert f"| {name} | 0.9 |" in text
 
 
+def test_openpbr_transport_writes_its_page(tmp_path):
+    from benchmarks import openpbr_transport
+
+    text = openpbr_transport.run(tmp_path, smoke=True).read_text(encoding="utf-8")
+    for section in ("Example materials", "Sweeps of the parameters the approximations touch",
+                    "eval at pairs and reciprocity", "Polar slices", "Cost"):
+        assert f"## {section}" in text
+    assert "| default | 1 |" in text and "| coat_weight | 0.0 |" in text
+    assert (tmp_path / "figures" / "openpbr_transport_slices.png").exists()
+
+
 def test_media_report_writes_its_page(tmp_path):
     from benchmarks import media_report
 
