@@ -158,6 +158,15 @@ class _RandomWalks(Lobe):
         raise ValueError("method = 'quadrature' integrates eval, which is a Monte-Carlo "
                          f"estimate for a {type(self).__name__}; use albedo(method='mc')")
 
+    def _estimated(self, batch, wo, s: BSDFSample, pdf) -> BSDFSample:
+        """The flat sample ``s`` with ``pdf`` (a delta sample's), the non-delta samples'
+        replaced by the estimate ``_pdf``, shaped to ``batch``."""
+        smooth = np.flatnonzero((s.flags != 0) & ((s.flags & _DELTA) == 0))
+        if len(smooth):
+            pdf[smooth] = self._pdf(wo[smooth], s.wi[smooth])
+        s = finished_sample(s.wi, s.weight, pdf, s.flags)
+        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+
 
 class LayeredReference(_RandomWalks):
     """``top`` over ``base`` with the light followed between them (module docstring): the
@@ -497,12 +506,7 @@ class LayeredReference(_RandomWalks):
     # -- sample -----------------------------------------------------------------------------
     def _sample(self, wo, u):
         batch, wo, s = self._walked(wo, u)
-        pdf = s.pdf.copy()
-        smooth = np.flatnonzero((s.flags != 0) & ((s.flags & _DELTA) == 0))
-        if len(smooth):
-            pdf[smooth] = self._pdf(wo[smooth], s.wi[smooth])
-        s = BSDFSample(s.wi, s.weight, pdf, s.flags)
-        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+        return self._estimated(batch, wo, s, s.pdf.copy())
 
     def walk(self, wo, u) -> BSDFSample:
         """``sample`` without its ``pdf`` estimate: the same walks, directions and weights (an
@@ -710,12 +714,7 @@ class MixedReference(_RandomWalks):
 
     def _sample(self, wo, u):
         batch, wo, k, s = self._picked(wo, u, draw=False)
-        pdf = self.weights[k] * s.pdf
-        smooth = np.flatnonzero((s.flags != 0) & ((s.flags & _DELTA) == 0))
-        if len(smooth):
-            pdf[smooth] = self._pdf(wo[smooth], s.wi[smooth])
-        s = finished_sample(s.wi, s.weight, pdf, s.flags)
-        return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
+        return self._estimated(batch, wo, s, self.weights[k] * s.pdf)
 
     def _draw(self, wo, u) -> BSDFSample:
         """A sample without the mixture's pdf (w_k times the part's own stand-in)."""
