@@ -103,7 +103,8 @@ def _grazing(cos_theta=0.05, phi=0.0):
 def test_material_forwards_the_top_albedo_of_an_anisotropic_coat():
     """Regression: ``Material`` once did not forward ``_top_albedo`` and fell back to the
     coat's isotropic table, 0.234 at grazing where the coat's own answer is 0.143."""
-    coat = ab.materials.asm.asm_coat(1.6, 0.2, 1.0, 0.0)
+    with ab.config.options(anisotropic_energy="isotropic"):  # a table that is wrong here
+        coat = ab.materials.asm.asm_coat(1.6, 0.2, 1.0, 0.0)
     wo = _grazing()
     quadrature = coat.albedo(wo, method="quadrature", tol=1e-7)
     table = coat.albedo(wo, method="table")

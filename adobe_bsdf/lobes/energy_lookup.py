@@ -536,6 +536,9 @@ def checked_ratio(eta, table: str | None = None, dispersion=None):
     ``(..., 3)``) the message names the channel, the index and the dispersion."""
     eta = np.asarray(eta, dtype=np.float64)
     ratio = sides(eta)[1]
+    # 1 / (1/3) is 3 plus an ulp: the range's end, by rounding
+    ratio = np.where((ratio > tables.ETA_MAX) & (ratio <= tables.ETA_MAX * (1.0 + 1e-12)),
+                     tables.ETA_MAX, ratio)
     bad = ~(ratio <= tables.ETA_MAX)
     if not np.any(bad):
         return ratio

@@ -846,8 +846,11 @@ class DielectricReflection(MicrofacetReflection):
     def _init(self, microfacets, fresnel: ExactDielectric):
         super()._init(microfacets, fresnel)
         self.eta = fresnel.eta
-        #: E_R from the lobe's slice where anisotropic (``config`` anisotropic_energy)
-        self.slices = slice_source(self.distribution)
+        #: E_R from the lobe's slice where anisotropic, under ``config`` anisotropic_energy
+        #: "exact" only: E_R alone is the coarsest part of a slice, which the default grid
+        #: reads for the energy E_R + E_T of the Kulla-Conty terms
+        source = slice_source(self.distribution)
+        self.slices = source if source == "exact" else ""
 
     def __repr__(self) -> str:
         return f"DielectricReflection(eta={self.eta!r}, {self.distribution!r})"
