@@ -40,7 +40,6 @@ import numpy as np
 from scipy import optimize
 
 from adobe_bsdf import _params, media
-from adobe_bsdf.composition import Rotated
 from adobe_bsdf.layered import LayeredReference, MixedReference
 from adobe_bsdf.lobes.dielectric import Dielectric
 from adobe_bsdf.lobes.kulla_conty import DielectricMS
@@ -49,7 +48,7 @@ from adobe_bsdf.lobes.oren_nayar import EnergyPreservingOrenNayar
 from adobe_bsdf.lobes.pass_through import PassThrough
 from adobe_bsdf.lobes.tinted_refraction import TintedRefraction
 from adobe_bsdf.materials.openpbr import mapping
-from adobe_bsdf.materials.openpbr.material import _mix
+from adobe_bsdf.materials.openpbr.material import _mix, _turned
 from adobe_bsdf.microfacet import GGX
 from adobe_bsdf.phase import FibreMicroflakes
 from adobe_bsdf.sampling import cosine_hemisphere
@@ -207,8 +206,8 @@ class _Builder:
 
     @staticmethod
     def turned(lobe, tangent):
-        phi = float(mapping.tangent_rotation(np.asarray(tangent)))
-        return Rotated(lobe, phi) if phi else lobe
+        """``lobe`` turned to the tangent (the fast model's ``_turned``)."""
+        return _turned(lobe, mapping.tangent_rotation(np.asarray(tangent)))
 
     def dielectric_interface(self, n_above):
         """``(lobe, eta)``: the base's rough dielectric interface, reflection and
