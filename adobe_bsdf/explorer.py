@@ -26,8 +26,9 @@ The first three follow every change after ``DEBOUNCE`` seconds; the sphere and t
 quadrature wait until the controls have rested ``REST`` seconds (the last sphere stays
 until then). With ``reference=True`` a material that has a structure followed by full light
 transport (``OpenPBRSurface.reference``) shows it too, at rest: points with error bars on the
-polar slice and its Monte-Carlo albedo at theta_o, the worst difference in the title line. The title line shows the
-lobes the current parameters make active (the rest are never built) and the time of one
+polar slice and its Monte-Carlo albedo at theta_o, the worst difference in the title line.
+The title line shows the lobes the current parameters make active (the rest are never
+built) and the time of one
 ``eval`` per pair. Without a widget front end (``ipywidgets`` missing, or outside a Jupyter
 kernel) ``explore`` says so and draws the panels once, for the given values. The figure is
 shown as a PNG in an image widget (its state is kept in the notebook), so no matplotlib

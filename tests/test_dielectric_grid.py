@@ -28,10 +28,11 @@ def test_the_grid_spans_its_ranges_at_its_step():
 
 
 def test_a_grid_point_holds_its_slice():
-    """``slice_values`` is ``dielectric_slice``'s node values, part after part (float32)."""
+    """``slice_values`` is the node values of ``dielectric_slice`` in the grid's layout (not
+    refined), part after part (float32)."""
     point = tuple(grid.grid_points("above")[40])
     values = grid.slice_values(point)
-    piece = dielectric_slice(*point)
+    piece = dielectric_slice(*point, refined=False)
     want = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
     assert values.dtype == np.float32 and values.shape == want.shape
     np.testing.assert_allclose(values, want, rtol=0, atol=1e-7)

@@ -115,7 +115,7 @@ def grid_points(half: str) -> np.ndarray:
 def slice_values(point) -> np.ndarray:
     """``(n_nodes, 2)`` float32 node values (E_R, E_T) of the slice at ``point`` = (alpha,
     ratio, eta), in ``dielectric_slices.node_directions``' order: those of
-    ``dielectric_slice(*point)``."""
+    ``dielectric_slice(*point, refined=False)`` (the grid's layout)."""
     point = tuple(float(x) for x in point)
     return node_energy(*point, *node_directions(layout(*point))).astype(np.float32)
 
