@@ -45,8 +45,10 @@ DIRECTIONS = 4000
 #: (alpha, ratio, eta) always measured
 EXTREMES = [(2.0, 0.0, 3.0), (2.0, 1.0, 1.011), (0.005, 0.0, 1.011), (1.2, 0.02, 1.4142),
             (1.2, 0.02, 1.4143), (0.6, 0.0, 1.9), (0.02, 0.5, 2.99),
+            # nearly smooth: below the grid's third roughness node
+            (0.005, 0.037, 3.0), (0.003, 0.05, 2.0), (0.01, 0.3, 3.0),
             # the corners of what the library reads from the grid
-            (2.0, 0.037, 1.031), (0.005, 0.037, 3.0), (2.0, 1.0, 1.031)]
+            (2.0, 0.037, 1.031), (0.0157, 0.037, 3.0), (0.0157, 1.0, 1.031), (2.0, 1.0, 1.031)]
 PAIRS, ROUNDS = 20000, 7
 
 
@@ -260,7 +262,7 @@ def measure(smoke: bool = False, path: Path | None = None) -> dict:
 def _read(interface) -> bool:
     """Whether the library reads this interface's slice from the grid (elsewhere it
     computes it: ``dielectric_grid.interpolated``)."""
-    return dielectric_grid.interpolated(interface[1], interface[2])
+    return dielectric_grid.interpolated(*interface)
 
 
 def _split(rows):
@@ -277,8 +279,9 @@ def _computed_line(rows) -> list[str]:
     worst = max(_stats([r[side] for r in computed])[0] for side in ("light", "dense"))
     return ["", f"At the {len(computed)} interfaces measured where the library computes the "
             "slice instead of reading the grid (index ratio below "
-            f"{dielectric_grid.ETA_INTERPOLATED:.4g} or roughness ratio below "
-            f"{dielectric_grid.RATIO_INTERPOLATED:.3g}: `dielectric_grid.interpolated`), the "
+            f"{dielectric_grid.ETA_INTERPOLATED:.4g}, roughness ratio below "
+            f"{dielectric_grid.RATIO_INTERPOLATED:.3g} or roughness below "
+            f"{dielectric_grid.ALPHA_INTERPOLATED:.3g}: `dielectric_grid.interpolated`), the "
             f"grid would miss E_R + E_T by up to {worst:.1e}; there the default's slice is "
             "the exact mode's."]
 

@@ -4,7 +4,8 @@ cosines, the tangent plane, u at 0 and 1 - 2^-53), RuntimeWarnings as errors.
 
 Values: eval, pdf and samples finite and never negative; albedo by table and by Monte Carlo
 at most 1 + 1e-3 (colours <= 1), anisotropic materials included (their metal and diffuse
-read the anisotropic energy tables)."""
+read the anisotropic energy tables). The default run draws a few hundred materials per
+property; ``-m slow`` the exhaustive 2000 (``tests.sweeps``)."""
 
 import warnings
 
@@ -14,6 +15,7 @@ from hypothesis import strategies as st
 
 from adobe_bsdf.materials import AdobeStandardMaterial
 from adobe_bsdf.materials.asm import PARAMETERS
+from tests.sweeps import sweep
 
 #: finite stand-ins for the unbounded ranges (soft ranges are advice, not limits)
 _FINITE = {"dispersion": (0.0, 5.0), "scattering_distance": (0.0, 1e6),
@@ -58,9 +60,7 @@ _COSINE = st.one_of(st.floats(-1.0, 1.0), st.sampled_from(_EXTREME_COSINES))
 _AZIMUTH = st.one_of(st.floats(0.0, 2.0 * np.pi), st.sampled_from([0.0, np.pi]))
 
 
-@settings(max_examples=2000, deadline=None, suppress_health_check=list(HealthCheck))
-@given(_parameters(), _COSINE, _AZIMUTH, _COSINE, _AZIMUTH, st.tuples(_U, _U, _U))
-def test_values_are_finite_and_never_negative(params, zo, phi_o, zi, phi_i, u):
+def _finite(params, zo, phi_o, zi, phi_i, u):
     material = _material(params)
     wo, wi = _direction(zo, phi_o), _direction(zi, phi_i)
     with warnings.catch_warnings():
@@ -73,12 +73,15 @@ def test_values_are_finite_and_never_negative(params, zo, phi_o, zi, phi_i, u):
         assert abs(np.linalg.norm(s.wi) - 1.0) < 1e-12
 
 
+_FINITE_ARGS = (_parameters(), _COSINE, _AZIMUTH, _COSINE, _AZIMUTH, st.tuples(_U, _U, _U))
+test_values_are_finite_and_never_negative = sweep(_finite, 400, *_FINITE_ARGS)
+test_values_are_finite_and_never_negative_exhaustively = sweep(_finite, 2000, *_FINITE_ARGS,
+                                                               slow=True)
+
 _ALBEDO_COSINES = np.array([1.0, 0.5, 0.02, 1e-4, 1e-8, 5e-324])
 
 
-@settings(max_examples=2000, deadline=None, suppress_health_check=list(HealthCheck))
-@given(_parameters(), _AZIMUTH)
-def test_table_albedo_is_at_most_one(params, phi):
+def _table_albedo(params, phi):
     material = _material(params)
     wo = np.array([_direction(z, phi) for z in _ALBEDO_COSINES])
     with warnings.catch_warnings():
@@ -90,6 +93,11 @@ def test_table_albedo_is_at_most_one(params, phi):
             raise
     assert np.all(np.isfinite(albedo)) and np.all(albedo >= 0.0)
     assert np.all(albedo <= 1.0 + 1e-3), albedo
+
+
+test_table_albedo_is_at_most_one = sweep(_table_albedo, 250, _parameters(), _AZIMUTH)
+test_table_albedo_is_at_most_one_exhaustively = sweep(_table_albedo, 2000, _parameters(),
+                                                      _AZIMUTH, slow=True)
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=list(HealthCheck))

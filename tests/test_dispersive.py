@@ -8,11 +8,12 @@ from hypothesis import strategies as st
 
 import adobe_bsdf as ab
 from adobe_bsdf.composition import Rotated
-from adobe_bsdf.lobes import Dielectric, Dispersive
+from adobe_bsdf.lobes import Dielectric, DielectricMS, Dispersive
 from adobe_bsdf.materials.asm import asm_dielectric
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation import strategies as vs
 from adobe_bsdf.validation.chi2 import chi2_test, suggest_grid
+from tests.sweeps import sweep
 from tests.tolerances import CHI2_ALPHA, EXACT, RECIPROCITY, WEIGHT
 
 
@@ -52,8 +53,8 @@ def test_dispersion_zero_is_the_dielectric_bit_for_bit():
         np.testing.assert_array_equal(lobe.pdf(wo, wi, (1.0, 0.2, 0.0)), plain.pdf(wo, wi))
         for a, b in zip(lobe.sample(wo, u, (0.3, 1.0, 0.1)), plain.sample(wo, u), strict=True):
             np.testing.assert_array_equal(a, b)
-    rotated = asm_dielectric(1.5, 0.4, 0.6, 0.2, 0.0)
-    plain = Rotated(Dielectric(1.5, *ab.materials.asm.asm_alpha(0.4, 0.6)), 2 * np.pi * 0.2)
+    rotated = asm_dielectric(1.5, 0.4, 0.6, 0.2, 0.0)  # with its Kulla-Conty term
+    plain = Rotated(DielectricMS(1.5, *ab.materials.asm.asm_alpha(0.4, 0.6)), 2 * np.pi * 0.2)
     np.testing.assert_array_equal(rotated.eval(wo, wi), plain.eval(wo, wi))
 
 
@@ -124,11 +125,13 @@ def test_throughput_moves_the_sampling_not_the_bsdf():
 @pytest.mark.parametrize("cos_theta", [0.9, 0.3, -0.7])
 def test_sample_weights_carry_the_energy_of_eval(cos_theta):
     """The mean sample weight (x (eta_i/eta_o)^2 per channel) equals the quadrature of eval:
-    the per-channel energy convention of the mixture estimator."""
+    the per-channel energy convention of the mixture estimator. With each channel's
+    Kulla-Conty term the white glass keeps its energy: the quadrature is 1 within the
+    white-furnace bound 2e-3 (the tables' accuracy), every channel."""
     lobe = asm_dielectric(1.5, 0.3, 0.5, 0.1, 1.0)
     result = checks.mc_albedo_consistency(lobe, _wo(cos_theta), n_samples=200_000, n_tests=3)
     assert result.passed, result
-    assert np.all(result.quadrature <= 1.0 + 1e-9)
+    assert np.all(np.abs(result.quadrature - 1.0) <= 2e-3), result.quadrature
 
 
 def test_smooth_dispersive_interface_is_lossless():
@@ -159,14 +162,18 @@ def test_reciprocity(eta, dispersion, alpha, phi, pair):
     assert result.passed, result
 
 
-@settings(max_examples=60, deadline=None)
-@given(ior=st.floats(1.0, 2.0), roughness=st.floats(0.0, 1.0), a=st.floats(0.0, 1.0),
-       dispersion=st.floats(0.0, 5.0))
-def test_energy_never_exceeds_one(ior, roughness, a, dispersion):
+def _energy_at_most_one(ior, roughness, a, dispersion):
     """(ior <= 2 keeps the blue index, up to 2.23 at dispersion 5, inside the tables.)"""
     lobe = asm_dielectric(ior, roughness, a, 0.3, dispersion)
     wo = np.stack([_wo(c) for c in (1.0, 0.6, 0.1, -0.4, -0.95)])
     assert np.all(lobe.albedo(wo, method="table") <= 1.0 + 2e-3)  # tables: interpolation error
+
+
+_GLASSES = {"ior": st.floats(1.0, 2.0), "roughness": st.floats(0.0, 1.0),
+            "a": st.floats(0.0, 1.0), "dispersion": st.floats(0.0, 5.0)}
+test_energy_never_exceeds_one = sweep(_energy_at_most_one, 25, **_GLASSES)
+test_energy_never_exceeds_one_exhaustively = sweep(_energy_at_most_one, 60, slow=True,
+                                                   **_GLASSES)
 
 
 def test_textures_evaluate_per_element():
@@ -208,3 +215,36 @@ def test_bad_input_names_the_parameter():
             asm_dielectric(**kwargs)
     with pytest.raises(ValueError, match="wavelengths_nm"):
         Dispersive(1.5, 1.0, 0.3, wavelengths_nm=(500.0, 600.0))
+
+
+def test_a_channel_beyond_the_tables_warns_once_and_keeps_the_stated_bound(monkeypatch):
+    """At ior 3, dispersion 1 the blue channel's index (3.0915) is beyond the energy
+    tables: the glass builds with one ``EnergyRangeWarning``, and each channel's white
+    furnace, single scattering by the stretched node quadrature at the channel's own index
+    plus the channel's term, misses 1 by at most ``BEYOND_TABLES_ERROR``, at the measured
+    worst case (alpha_x 2, ratio 0.1, seen from the dense side at cos 1e-3) and elsewhere;
+    the channels within the tables keep 2e-3."""
+    from adobe_bsdf.lobes import energy_lookup
+    from adobe_bsdf.lobes.kulla_conty import DispersiveMS
+    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
+    monkeypatch.setattr(energy_lookup, "_BEYOND_WARNED", __import__("threading").Event())
+    with pytest.warns(energy_lookup.EnergyRangeWarning, match="blue channel's index to 3.09"):
+        glass = DispersiveMS(3.0, 1.0, 2.0, 0.2)
+    with __import__("warnings").catch_warnings():
+        __import__("warnings").simplefilter("error", energy_lookup.EnergyRangeWarning)
+        DispersiveMS(3.0, 1.0, 1.0)  # once per process
+    eta_c = Dispersive(3.0, 1.0, 2.0, 0.2).eta
+    assert eta_c[2] > 3.09 and eta_c[1] > 3.0 and eta_c[0] < 3.0
+    mu, phi = np.array([1e-3, 0.05, 0.5, 1.0]), np.array([0.0, 0.7, 1.4, 0.0])
+    s = np.sqrt(1.0 - mu * mu)
+    for side in (1.0, -1.0):
+        wo = np.stack([s * np.cos(phi), s * np.sin(phi), side * mu], -1)
+        for c in range(3):
+            e = ggx_anisotropic_dielectric_energy(mu, phi, 2.0, 0.2, eta_c[c] ** side, order=12,
+                                                  estimate=False)
+            ms = glass.channels[c].albedo(wo, "table")[..., c]
+            error = np.abs(e.reflection + e.transmission + ms - 1.0)
+            bound = energy_lookup.BEYOND_TABLES_ERROR if eta_c[c] > 3.0 else 2e-3
+            assert error.max() <= bound, (side, c, error)
+        if side < 0:  # the measured worst case comes close to the bound: it is tight
+            assert error[0] > 0.5 * energy_lookup.BEYOND_TABLES_ERROR, error

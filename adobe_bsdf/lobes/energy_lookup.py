@@ -40,7 +40,8 @@ __all__ = ["table_alpha", "lookup", "grey", "conductor_energy", "conductor_avera
            "dielectric_energy", "sides", "slice_source", "slice_energy", "slice_average",
            "checked_ratio", "reflected_energy", "near_matched", "passes_through",
            "MIN_TRANSMISSION_WIDTH", "MATCHED_ETA", "MATCHED_MU", "ISOTROPIC_FALLBACK_ERROR",
-           "AnisotropicEnergyWarning"]
+           "AnisotropicEnergyWarning", "within_tables", "BEYOND_TABLES_ERROR",
+           "EnergyRangeWarning"]
 
 #: narrowest transmitted lobe (radians) kept as a lobe: a rough interface whose refraction
 #: is narrower passes light straight through (``passes_through``, docs/conventions.md)
@@ -84,6 +85,45 @@ def _warn_isotropic_fallback() -> None:
         "from the dense side (measured: docs/anisotropic_candidates_measured.md). "
         "ab.config.options(anisotropic_energy='exact') computes the lobe's own slice "
         "(seconds per distinct interface; within 2e-3)"), stacklevel=_outside_package())
+
+
+#: the white furnace of a dispersive channel whose index lies beyond the tables (an ior near
+#: 3 spread by dispersion; the ASM reaches 3.0915 at ior 3, dispersion 1), its Kulla–Conty
+#: term reading them at the range's end: the largest |E(eta_c) - E(3)| (E = E_R + E_T, the
+#: stretched node quadrature) over alpha_x in [0.02, 2], ratios 1, 0.1 and 0, every view
+#: and both sides at eta_c = 3.0915, measured by ``benchmarks.asm_report``
+#: (docs/asm_measured.md, "Dispersive channels beyond the tables")
+BEYOND_TABLES_ERROR = 0.016
+_BEYOND_WARNED = threading.Event()
+
+
+class EnergyRangeWarning(UserWarning):
+    """A dispersive channel's index beyond the energy tables: its Kulla–Conty term reads
+    them at the range's end, so its white furnace misses by up to ``BEYOND_TABLES_ERROR``."""
+
+
+def within_tables(eta_c, dispersion) -> np.ndarray:
+    """The channel indices ``eta_c`` ``(..., 3)`` of a dispersive interface (``dispersion``
+    its own), those whose index ratio max(eta, 1/eta) exceeds ``tables.ETA_MAX`` moved to
+    the range's end on their side (``EnergyRangeWarning`` once per process, naming the
+    furthest channel, its index and the dispersion): the indices its energy terms read."""
+    eta_c = np.asarray(eta_c, dtype=np.float64)
+    top = tables.ETA_MAX
+    beyond = (eta_c > top) | (eta_c < 1.0 / top)
+    if not np.any(beyond):
+        return eta_c
+    if not _BEYOND_WARNED.is_set():
+        _BEYOND_WARNED.set()
+        index = np.unravel_index(np.argmax(np.abs(np.log(eta_c))), eta_c.shape)  # furthest
+        d = np.broadcast_to(dispersion, eta_c.shape[:-1])[index[:-1]].item()
+        warnings.warn(EnergyRangeWarning(
+            f"dispersion = {d!r} spreads the {_COLOURS[index[-1]]} channel's index to "
+            f"{eta_c[index]:.6g}, beyond the energy tables' [{1 / top:.4g}, {top:g}]: its "
+            f"multiple-scattering term reads them at {1 / top if eta_c[index] < 1 else top:.4g},"
+            f" so its white furnace misses by up to {BEYOND_TABLES_ERROR:g} (measured: "
+            "docs/asm_measured.md); lower ior or dispersion to stay within them"),
+            stacklevel=_outside_package())
+    return np.clip(eta_c, 1.0 / top, top)
 
 
 def _outside_package() -> int:
@@ -414,8 +454,9 @@ def slice_source(distribution: GGX) -> str:
 def _slice(alpha: float, ratio: float, eta: float, source: str):
     """The slice of (``alpha``, ``ratio``, index ratio ``eta``) from ``source``: "grid"
     (``dielectric_grid.grid_slice``, or where the library does not read the grid, nearly
-    index-matched or nearly one-dimensional interfaces, ``dielectric_grid.interpolated``,
-    the computed slice) or "exact" (``dielectric_slice``, computed once per process)."""
+    index-matched, nearly one-dimensional or nearly smooth interfaces
+    (``dielectric_grid.interpolated``), the computed slice) or "exact"
+    (``dielectric_slice``, computed once per process)."""
     if source == "grid":
         piece = dielectric_grid.grid_slice(alpha, ratio, eta)
         if piece is not None:

@@ -55,6 +55,7 @@ from adobe_bsdf.lobes.energy_lookup import (
     slice_average,
     slice_source,
     table_alpha,
+    within_tables,
 )
 from adobe_bsdf.lobes.reflection import Conductor, _fresnel_model
 from adobe_bsdf.lobes.separable import Separable
@@ -503,13 +504,14 @@ class DispersiveMS(Sum):
 
     def _init(self, eta, dispersion, distribution: GGX, film=None):
         glass = Dispersive._new(eta, dispersion, distribution, film=film)
-        #: the multiple-scattering term of each channel's index
+        #: the multiple-scattering term of each channel's index (``within_tables``)
+        eta_c = within_tables(glass.eta, dispersion)
         if film is None or np.all(distribution.smooth):
-            self.channels = tuple(DielectricMultipleScattering._new(glass.eta[..., c],
+            self.channels = tuple(DielectricMultipleScattering._new(eta_c[..., c],
                                                                     distribution)
                                   for c in range(3))
         else:  # each restores 1 - E - Delta_c of its channel's film (``DielectricMS``)
             self.channels = tuple(SeparableDielectricMS._new(
-                glass.eta[..., c], distribution, (glass.channels[c].film_energy(), c))
+                eta_c[..., c], distribution, (glass.channels[c].film_energy(), c))
                 for c in range(3))
         super()._init((glass, *self.channels), [None, *np.eye(3)])

@@ -64,7 +64,8 @@ from adobe_bsdf.tables.table import Axis
 __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "decode",
            "columns", "column_file", "write_column", "read_column", "stored_columns",
            "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN",
-           "interpolated", "ETA_INTERPOLATED", "RATIO_INTERPOLATED", "ETA_MAX", "ALPHA_MAX"]
+           "interpolated", "ETA_INTERPOLATED", "RATIO_INTERPOLATED", "ALPHA_INTERPOLATED",
+           "ETA_MAX", "ALPHA_MAX"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -88,13 +89,16 @@ def _axes(eta_lo: float, eta_hi: float) -> tuple[Axis, Axis, Axis]:
 #: the two grids' axes (q_alpha, q_ratio, q_eta)
 HALVES = {"below": _axes(ETA_MIN, _ROOT2 * (1.0 - SQRT2_GAP)),
           "above": _axes(_ROOT2 * (1.0 + SQRT2_GAP), ETA_MAX)}
-#: where the interpolation starts: the grid's second index ratio and third roughness ratio.
-#: Across the cells below them the energy turns too fast for the cubic stencil at grazing
-#: cosines, that of a nearly index-matched interface and that of a nearly one-dimensional
-#: one, and the white furnace misses by several times 2e-3. An interface there computes
-#: its own slice, as one below ``ETA_MIN`` does.
+#: where the interpolation starts: the grid's second index ratio, third roughness ratio and
+#: third roughness. Across the cells below them the energy turns too fast for the cubic
+#: stencil at grazing cosines (mu ~ 1e-3), that of a nearly index-matched interface, of a
+#: nearly one-dimensional one and of a nearly smooth one (1e-2 to 2.6e-2 at alpha 0.003 to
+#: 0.005, 4e-3 to 6e-3 at alpha 0.01: ``benchmarks.anisotropic_grid``'s extremes), and the
+#: white furnace misses by several times 2e-3. An interface there computes its own slice,
+#: as one below ``ETA_MIN`` does.
 ETA_INTERPOLATED = float(1.0 + np.exp(HALVES["below"][2].nodes()[1]) - ETA_OFFSET)
 RATIO_INTERPOLATED = float(np.exp(HALVES["below"][1].nodes()[2]) - RATIO_OFFSET)
+ALPHA_INTERPOLATED = float(np.exp(HALVES["below"][0].nodes()[2]) - ALPHA_OFFSET)
 
 
 def _physical(q_alpha, q_ratio, q_eta):
@@ -285,11 +289,13 @@ def _shipped_columns():
     return stored_columns(_path())
 
 
-def interpolated(ratio: float, eta: float) -> bool:
-    """Whether the library reads the slice of an interface of roughness ratio ``ratio`` and
-    index ratio ``eta`` from the grid: eta in [``ETA_INTERPOLATED``, ``ETA_MAX``] and ratio
-    >= ``RATIO_INTERPOLATED``; elsewhere it computes the slice."""
-    return ETA_INTERPOLATED <= eta <= ETA_MAX and ratio >= RATIO_INTERPOLATED
+def interpolated(alpha: float, ratio: float, eta: float) -> bool:
+    """Whether the library reads the slice of an interface of roughness ``alpha`` (alpha_max),
+    roughness ratio ``ratio`` and index ratio ``eta`` from the grid: eta in
+    [``ETA_INTERPOLATED``, ``ETA_MAX``], ratio >= ``RATIO_INTERPOLATED`` and alpha >=
+    ``ALPHA_INTERPOLATED``; elsewhere it computes the slice."""
+    return (ETA_INTERPOLATED <= eta <= ETA_MAX and ratio >= RATIO_INTERPOLATED
+            and alpha >= ALPHA_INTERPOLATED)
 
 
 @functools.lru_cache(maxsize=256)
@@ -297,6 +303,6 @@ def grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None
     """``interpolated_slice`` of the shipped grid (each column read from its file when
     first needed), kept for the 256 interfaces last read; None where the grid is not read
     (``interpolated``)."""
-    if not interpolated(ratio, eta):
+    if not interpolated(alpha, ratio, eta):
         return None
     return interpolated_slice(_shipped_columns(), alpha, ratio, eta)

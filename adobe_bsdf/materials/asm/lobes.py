@@ -1,6 +1,6 @@
 """The ASM's specular lobes assembled from the generic ones: the metal [Kutz2021, §1.2, §2, §3],
-the dielectric's reflection and transmission [Kutz2021, §3, §4] and the coat's reflection
-[Kutz2021, §7 Table 4].
+the dielectric's reflection and transmission [Kutz2021, §1.2, §3, §4] and the coat's
+reflection [Kutz2021, §7 Table 4].
 
 Each public factory validates its arguments and calls its kernel (``metal``, ``dielectric``,
 ``coat``), which the material calls directly with the parameters it has validated.
@@ -13,8 +13,7 @@ import numpy as np
 from adobe_bsdf import _params
 from adobe_bsdf.composition import Rotated
 from adobe_bsdf.fresnel import ExactDielectric, F82Tint
-from adobe_bsdf.lobes.dispersive import Dispersive
-from adobe_bsdf.lobes.kulla_conty import ConductorMS
+from adobe_bsdf.lobes.kulla_conty import ConductorMS, DielectricMS, DispersiveMS
 from adobe_bsdf.lobes.reflection import DielectricReflection
 from adobe_bsdf.materials.asm.mapping import COAT_IOR_RANGE, alphas, rotation
 from adobe_bsdf.microfacet import GGX
@@ -59,18 +58,25 @@ def asm_metal(base_color, specular_edge_color=1.0, roughness=0.5, anisotropy_lev
 def dielectric(ior, roughness, level, angle, dispersion) -> Rotated:
     """``asm_dielectric`` of validated arrays."""
     microfacets = GGX._new(*alphas(roughness, level))
-    return Rotated._new(Dispersive._new(ior, dispersion, microfacets), rotation(angle))
+    if not np.any(dispersion):
+        return Rotated._new(DielectricMS._new(ior, microfacets), rotation(angle))
+    return Rotated._new(DispersiveMS._new(ior, dispersion, microfacets), rotation(angle))
 
 
 def asm_dielectric(ior=1.5, roughness=0.5, anisotropy_level=0.0, anisotropy_angle=0.0,
                    dispersion=0.0) -> Rotated:
-    """The specular reflection and transmission of the ASM's dielectric.
+    """The specular reflection and transmission of the ASM's dielectric, with the Kulla–Conty
+    multiple scattering that [Kutz2021, §1.2] applies to "refractive dielectrics (e.g.
+    glass)" as to metals: a white one keeps its energy.
 
-    ``Dispersive(ior, dispersion, alpha_x, alpha_y)`` (one index per channel by Cauchy's
-    equation [Kutz2021, eqs. 11-13]; ``Dielectric`` exactly when ``dispersion`` is 0) with
-    alpha_x = r^2 + a^4, alpha_y = r^2 [Kutz2021, eqs. 9-10], turned by
-    2 pi ``anisotropy_angle`` [Kutz2021, §3]. At roughness 0 with anisotropy > 0 the lobe is
-    anisotropic, not a delta: alpha_y is raised to ``microfacet.ALPHA_MIN``.
+    ``DispersiveMS(ior, dispersion, alpha_x, alpha_y)`` (one index per channel by Cauchy's
+    equation [Kutz2021, eqs. 11-13], each channel with its own term; ``DielectricMS`` where
+    ``dispersion`` is 0 everywhere) with alpha_x = r^2 + a^4, alpha_y = r^2 [Kutz2021,
+    eqs. 9-10], turned by 2 pi ``anisotropy_angle`` [Kutz2021, §3]. At roughness 0 with
+    anisotropy > 0 the lobe is anisotropic, not a delta: alpha_y is raised to
+    ``microfacet.ALPHA_MIN``. The terms read the energy tables: a channel's index beyond
+    them (ior near 3 with a large dispersion) reads them at their end, with an
+    ``EnergyRangeWarning`` giving the measured error (``energy_lookup.within_tables``).
 
     Parameters
     ----------
