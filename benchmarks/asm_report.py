@@ -250,61 +250,6 @@ def measure_dispersion():
     return rows
 
 
-#: the ASM's largest channel index (ior 3, dispersion 1) and the alphas and cosines of
-#: ``measure_beyond_tables``
-BEYOND_IOR, BEYOND_DISPERSION = 3.0, 1.0
-BEYOND_ALPHAS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 1.5, 2.0)
-BEYOND_RATIOS = (1.0, 0.1, 0.0)
-BEYOND_COSINES = (1e-3, 0.01, 0.05, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.9, 1.0)
-
-
-def measure_beyond_tables(order: int = 12):
-    """The largest |E(eta_c) - E(end)| (E = E_R + E_T by the stretched node quadrature),
-    eta_c the ASM's largest channel index and end the tables' (3), per side, over
-    ``BEYOND_ALPHAS``, ``BEYOND_RATIOS``, ``BEYOND_COSINES`` and azimuths 0, pi/4, pi/2 from
-    the rough axis: what the term of a channel beyond the tables misses
-    (``energy_lookup.BEYOND_TABLES_ERROR``). Rows (side, eta_c, worst, alpha, ratio, mu)."""
-    from adobe_bsdf import tables
-    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
-    eta_c = float(dispersion.cauchy_iors(BEYOND_IOR, BEYOND_DISPERSION).max())
-    mu, phi = (a.ravel() for a in np.meshgrid(BEYOND_COSINES, (0.0, np.pi / 4, np.pi / 2)))
-    rows = []
-    for side, sign in (("light", 1.0), ("dense", -1.0)):
-        worst = (0.0, None, None, None)
-        for alpha in BEYOND_ALPHAS:
-            for ratio in BEYOND_RATIOS:
-                e = [ggx_anisotropic_dielectric_energy(mu, phi, alpha, alpha * ratio,
-                                                       eta ** sign, order, estimate=False)
-                     for eta in (eta_c, tables.ETA_MAX)]
-                d = np.abs(e[0].reflection + e[0].transmission
-                           - e[1].reflection - e[1].transmission)
-                if d.max() > worst[0]:
-                    worst = (float(d.max()), alpha, ratio, float(mu[d.argmax()]))
-        rows.append((side, eta_c, *worst))
-    return rows
-
-
-def markdown_beyond_tables(rows):
-    from adobe_bsdf.lobes.energy_lookup import BEYOND_TABLES_ERROR
-    out = ["", "## Dispersive channels beyond the tables", "",
-           f"At ior {BEYOND_IOR:g} and dispersion {BEYOND_DISPERSION:g} the blue channel's "
-           f"index is {rows[0][1]:.5g}, beyond the energy tables' index ratio 3; its "
-           "Kulla–Conty term reads the tables at 3 (`energy_lookup.within_tables`), so its "
-           "white furnace misses by |E(η_c) − E(3)|, E = E_R + E_T by the stretched node "
-           "quadrature. Largest over α_x ∈ {" + ", ".join(f"{a:g}" for a in BEYOND_ALPHAS)
-           + "}, α_y/α_x ∈ {" + ", ".join(f"{r:g}" for r in BEYOND_RATIOS) + "}, cos θ_o ∈ {"
-           + ", ".join(f"{m:g}" for m in BEYOND_COSINES) + "} and azimuths 0, π/4, π/2:", "",
-           "| side | η_c | largest abs(E(η_c) − E(3)) | at α_x | α_y/α_x | cos θ_o |",
-           "|---|---|---|---|---|---|"]
-    out += [f"| {side} | {eta:.5g} | {worst:.2e} | {a:g} | {r:g} | {m:g} |"
-            for side, eta, worst, a, r, m in rows]
-    worst = max(r[2] for r in rows)
-    out += ["", f"The warning states {BEYOND_TABLES_ERROR:g} "
-            f"(`BEYOND_TABLES_ERROR`); measured here: {worst:.4f}"
-            + ("." if worst <= BEYOND_TABLES_ERROR else " — ABOVE the stated bound."), ""]
-    return out
-
-
 def measure_colour_noise(n_samples: int = 200_000):
     """Fig. 10 as numbers: dispersion 1, ior 1.5, cos theta_o = 0.7, white throughput. For
     each roughness, the mean over transmitted samples of (max_c w_c - min_c w_c) / mean_c w_c
@@ -466,15 +411,13 @@ def run(out: Path | None = None, n_paths: int = 200_000,
     anisotropic = measure_anisotropic_energy(aniso_samples)
     f82 = measure_f82()
     glasses, noise = measure_dispersion(), measure_colour_noise()
-    beyond = measure_beyond_tables()
     tint, recip = measure_coat_tint(), measure_non_reciprocity()
     fig2 = measure_fig2()
     text = markdown(rows, time.perf_counter() - start)
     text += "\n".join(markdown_f82(f82) + markdown_furnace(furnace)
                       + markdown_anisotropic_energy(anisotropic, aniso_samples)
                       + markdown_media(media_rows, n_paths)
-                      + markdown_dispersion(glasses, noise) + markdown_beyond_tables(beyond)
-                      + markdown_fig2(fig2)
+                      + markdown_dispersion(glasses, noise) + markdown_fig2(fig2)
                       + markdown_coat(tint, recip))
     path = docs / "asm_measured.md"
     path.write_text(text, encoding="utf-8")

@@ -13,6 +13,7 @@ from adobe_bsdf.materials.asm import coat_transmittance
 from adobe_bsdf.validation import checks
 from adobe_bsdf.validation.chi2 import chi2_test
 from tests.sampling_checks import assert_no_energy_gain
+from tests.sweeps import sweep
 from tests.tolerances import (
     CHI2_ALPHA,
     EXACT,
@@ -96,9 +97,7 @@ def test_albedo_never_exceeds_one(p):
     assert_no_energy_gain(material, wo, 1.0 + FURNACE_TABLE, p, mc_samples=100_000)
 
 
-@settings(max_examples=60, deadline=None)
-@given(p=asm_parameters())
-def test_outputs_are_finite(p):
+def _outputs_finite(p):
     """Acceptance 5: no NaN or Inf anywhere in the parameter range, grazing angles included."""
     material = ASM(**p)
     wo, wi = _pairs(300)
@@ -111,6 +110,10 @@ def test_outputs_are_finite(p):
         values.append(material.albedo(wo[:5], method="table"))
     for v in values:
         assert np.all(np.isfinite(v)), p
+
+
+test_outputs_are_finite = sweep(_outputs_finite, 20, p=asm_parameters())
+test_outputs_are_finite_exhaustively = sweep(_outputs_finite, 60, p=asm_parameters(), slow=True)
 
 
 def _tables_cover(p):

@@ -88,11 +88,11 @@ def _warn_isotropic_fallback() -> None:
 
 
 #: the white furnace of a dispersive channel whose index lies beyond the tables (an ior near
-#: 3 spread by dispersion; the ASM reaches 3.0915 at ior 3, dispersion 1), its Kulla–Conty
-#: term reading them at the range's end: the largest |E(eta_c) - E(3)| (E = E_R + E_T, the
-#: stretched node quadrature) over alpha_x in [0.02, 2], ratios 1, 0.1 and 0, every view
-#: and both sides at eta_c = 3.0915, measured by ``benchmarks.asm_report``
-#: (docs/asm_measured.md, "Dispersive channels beyond the tables")
+#: 3 spread by dispersion: 3.0915 at ior 3, dispersion 1), its Kulla–Conty term reading them
+#: at the range's end: the largest |E(eta_c) - E(3)| (E = E_R + E_T, the stretched node
+#: quadrature) over alpha_x in [0.02, 2], ratios 1, 0.1 and 0, every view and both sides at
+#: eta_c = 3.0915, measured by ``benchmarks.anisotropic_grid``
+#: (docs/anisotropic_grid_measured.md, "Dispersive channels beyond the tables")
 BEYOND_TABLES_ERROR = 0.016
 _BEYOND_WARNED = threading.Event()
 
@@ -121,7 +121,7 @@ def within_tables(eta_c, dispersion) -> np.ndarray:
             f"{eta_c[index]:.6g}, beyond the energy tables' [{1 / top:.4g}, {top:g}]: its "
             f"multiple-scattering term reads them at {1 / top if eta_c[index] < 1 else top:.4g},"
             f" so its white furnace misses by up to {BEYOND_TABLES_ERROR:g} (measured: "
-            "docs/asm_measured.md); lower ior or dispersion to stay within them"),
+            "docs/anisotropic_grid_measured.md); lower ior or dispersion to stay within them"),
             stacklevel=_outside_package())
     return np.clip(eta_c, 1.0 / top, top)
 
