@@ -179,9 +179,13 @@ class _Part:
 
     @property
     def _x_edges(self):
-        """``_two_sided``'s end spacings in t: crowded towards grazing and mu_c."""
+        """``_two_sided``'s end spacings in t: crowded towards grazing and mu_c (refined
+        layouts also towards 1 / eta, where a very rough interface's energy peaks)."""
         def edge(mu):
-            return _CRITICAL_EDGE if mu == self.mu_c else _PLAIN_EDGE
+            if mu == self.mu_c:
+                return _CRITICAL_EDGE
+            kink = self.refined and mu == np.sqrt(1.0 - self.mu_c**2)
+            return _KINK_EDGE if kink else _PLAIN_EDGE
         return {"grazing": (_GRAZING_EDGE, _GRAZING_EDGE),
                 "lower": (edge(self.hi), _GRAZING_EDGE)}.get(
                     self.segment, (edge(self.lo), edge(self.hi)))
