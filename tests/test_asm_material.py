@@ -112,7 +112,7 @@ def _outputs_finite(p):
         assert np.all(np.isfinite(v)), p
 
 
-test_outputs_are_finite = sweep(_outputs_finite, 20, p=asm_parameters())
+test_outputs_are_finite = sweep(_outputs_finite, 10, p=asm_parameters())
 test_outputs_are_finite_exhaustively = sweep(_outputs_finite, 60, p=asm_parameters(), slow=True)
 
 

@@ -74,7 +74,7 @@ def _finite(params, zo, phi_o, zi, phi_i, u):
 
 
 _FINITE_ARGS = (_parameters(), _COSINE, _AZIMUTH, _COSINE, _AZIMUTH, st.tuples(_U, _U, _U))
-test_values_are_finite_and_never_negative = sweep(_finite, 250, *_FINITE_ARGS)
+test_values_are_finite_and_never_negative = sweep(_finite, 100, *_FINITE_ARGS)
 test_values_are_finite_and_never_negative_exhaustively = sweep(_finite, 2000, *_FINITE_ARGS,
                                                                slow=True)
 
@@ -95,7 +95,7 @@ def _table_albedo(params, phi):
     assert np.all(albedo <= 1.0 + 1e-3), albedo
 
 
-test_table_albedo_is_at_most_one = sweep(_table_albedo, 150, _parameters(), _AZIMUTH)
+test_table_albedo_is_at_most_one = sweep(_table_albedo, 60, _parameters(), _AZIMUTH)
 test_table_albedo_is_at_most_one_exhaustively = sweep(_table_albedo, 2000, _parameters(),
                                                       _AZIMUTH, slow=True)
 
@@ -115,7 +115,7 @@ _MC_ARGS = (_parameters(), _AZIMUTH, st.integers(0, 2**32 - 1))
 #: a nearly smooth anisotropic coat: it gained 0.0076
 _MC_EXAMPLES = [({"roughness": 0.0, "coat_opacity": 1.0, "coat_anisotropy_level": 0.03125,
                   "base_color": 0.0}, 0.3, 1)]
-test_monte_carlo_albedo_is_at_most_one = sweep(_monte_carlo_albedo, 60, *_MC_ARGS,
+test_monte_carlo_albedo_is_at_most_one = sweep(_monte_carlo_albedo, 30, *_MC_ARGS,
                                                examples=_MC_EXAMPLES)
 test_monte_carlo_albedo_is_at_most_one_exhaustively = sweep(
     _monte_carlo_albedo, 150, *_MC_ARGS, examples=_MC_EXAMPLES, slow=True)

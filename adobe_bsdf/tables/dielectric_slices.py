@@ -50,9 +50,11 @@ varies with mu (by ~0.1 between mu 0 and 0.1 at alpha 1), but the blended coordi
 thin a boundary layer leaves two cells for that range, and across the smooth axis it turns
 within |cos phi| ~ mu / alpha. Refined layouts floor the boundary layer's roughness smoothly
 at ``_BLEND_FLOOR`` alpha (hypot), crowd the dense side's "near" bands towards the smooth
-axis (``_REFINED_AXIS_EDGE``) and carry more nodes (``REFINED_NODES``): the largest error of
-E_R + E_T over mu >= 1e-3 drops from 2.3e-2 to 1.3e-3 at the nearly one-dimensional
-interfaces probed by ``benchmarks.anisotropic_grid`` (twice the nodes, twice the time).
+axis (``_REFINED_AXIS_EDGE``) and their mu nodes towards 1 / eta (where a very rough,
+nearly index-matched interface's energy peaks), and carry more nodes (``REFINED_NODES``):
+the largest error of E_R + E_T over mu >= 1e-3 drops from 2.3e-2 to 1.5e-3 at the nearly
+one-dimensional and nearly index-matched interfaces that ``benchmarks.anisotropic_grid``
+probes (twice the nodes, twice the time).
 """
 
 from __future__ import annotations
