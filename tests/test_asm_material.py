@@ -3,7 +3,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import adobe_bsdf as ab
@@ -160,6 +160,8 @@ def test_chi2(name, cos_theta):
 # -- acceptance 4: reciprocity, and the measured non-reciprocity of the layers -----------------
 @settings(max_examples=40, deadline=None)
 @given(p=asm_parameters(with_sheen=False))
+@example(p={"base_color": 0.0, "roughness": 0.0, "ior": 3.0, "anisotropy_level": 1.0,
+            "dispersion": 1.0, "translucency": 1.0})  # a channel beyond the energy tables
 def test_reciprocity_without_the_layers(p):
     """Metal, diffuse, specular, transmission: reciprocal to 1e-10 (tables: their terms are
     symmetric products)."""

@@ -189,10 +189,13 @@ class SeparableDielectricMS(Separable):
     def __init__(self, eta, alpha_x, alpha_y=None):
         self._init(_eta(eta), GGX(alpha_x, alpha_y))
 
-    def _init(self, eta, distribution: GGX, film=None):
+    def _init(self, eta, distribution: GGX, film=None, interface_eta=None):
         """``film``: None, or ``(energy, channel)``: a ``film_energy.FilmEnergy`` of the
         interface and the colour channel whose Delta this term restores as well (it
-        restores 1 - E - Delta; no glossy share then)."""
+        restores 1 - E - Delta; no glossy share then). ``interface_eta``: the interface's own
+        index where ``eta`` is only the one its energy is read at (a channel beyond the
+        tables, ``energy_lookup.within_tables``): generalized reciprocity follows the
+        interface's."""
         self.eta = eta
         self.distribution = distribution
         self._film = film
@@ -216,7 +219,7 @@ class SeparableDielectricMS(Separable):
         t_L = np.clip(pick(E_avg_L > 0.0, avg_L[..., 1] / pick(E_avg_L > 0, E_avg_L, 1.0),
                                0.0), 0.0, 1.0)
         loss_L, loss_D = 1.0 - E_avg_L, 1.0 - E_avg_D
-        eta2 = ratio * ratio
+        eta2 = ratio * ratio if interface_eta is None else sides(interface_eta)[1] ** 2
         # 1 - r_D from the reciprocity condition; if above 1, cap it and lower 1 - r_L instead
         t_D = np.maximum(t_L * loss_L / pick(eta2 * loss_D > 0.0, eta2 * loss_D, 1.0), 0.0)
         capped = t_D > 1.0
@@ -422,8 +425,8 @@ class DielectricMultipleScattering(Sum):
     def __init__(self, eta, alpha_x, alpha_y=None):
         self._init(_eta(eta), GGX(alpha_x, alpha_y))
 
-    def _init(self, eta, distribution: GGX):
-        separable = SeparableDielectricMS._new(eta, distribution)
+    def _init(self, eta, distribution: GGX, interface_eta=None):
+        separable = SeparableDielectricMS._new(eta, distribution, None, interface_eta)
         parts = [separable]
         if np.any(separable.glossy_weight > 0.0):  # a material pays only for what it uses
             parts.append(DielectricMultipleReflection._new(eta, distribution,
@@ -507,11 +510,11 @@ class DispersiveMS(Sum):
         #: the multiple-scattering term of each channel's index (``within_tables``)
         eta_c = within_tables(glass.eta, dispersion)
         if film is None or np.all(distribution.smooth):
-            self.channels = tuple(DielectricMultipleScattering._new(eta_c[..., c],
-                                                                    distribution)
-                                  for c in range(3))
+            self.channels = tuple(DielectricMultipleScattering._new(
+                eta_c[..., c], distribution, glass.eta[..., c]) for c in range(3))
         else:  # each restores 1 - E - Delta_c of its channel's film (``DielectricMS``)
             self.channels = tuple(SeparableDielectricMS._new(
-                eta_c[..., c], distribution, (glass.channels[c].film_energy(), c))
+                eta_c[..., c], distribution, (glass.channels[c].film_energy(), c),
+                glass.eta[..., c])
                 for c in range(3))
         super()._init((glass, *self.channels), [None, *np.eye(3)])
