@@ -9,6 +9,11 @@ seed=0, phase=None)``
     position-free Monte-Carlo layered BSDF [Guo2018] in the form of pbrt-v4's
     ``LayeredBxDF`` [Pharr2023, §14.3]: ``eval`` and ``pdf`` are unbiased (``eval``) and
     approximate (``pdf``) estimates from random walks, ``sample`` follows one walk.
+``MixedReference(parts, weights)``
+    patches side by side, for parts that may be random walks.
+``UpsideDown(lobe)``, ``TwoSided(lobe)``
+    a lobe turned over (the lower face of a sheet), and a structure symmetric about its
+    middle plane seen from either side (a thin wall).
 ``henyey_greenstein(wo, wi, g)``, ``sample_henyey_greenstein(wo, u2, g)``
     the Henyey–Greenstein phase function of the slab [Henyey1941] (from ``phase``).
 
@@ -24,7 +29,7 @@ may depend on the direction: a slab of fibre microflakes transmits
 exp(-thickness sigma(w) / |cos theta|) along w.
 A slab that only absorbs (``medium_albedo`` 0) may have a coloured thickness: a tinted
 varnish, whose transmittance along w is exp(-thickness_c / |cos theta|) in each channel c.
-Light enters through the top: directions with ``wo`` below the surface give 0.
+Light from below enters through the base: the slab turned over (``LayeredReference.twin``).
 """
 
 from __future__ import annotations
@@ -38,9 +43,12 @@ from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
 from adobe_bsdf.lobes.dielectric import interface_energy_scale
 from adobe_bsdf.phase import HenyeyGreenstein, henyey_greenstein, sample_henyey_greenstein
 
-__all__ = ["LayeredReference", "MixedReference", "henyey_greenstein", "sample_henyey_greenstein"]
+__all__ = ["LayeredReference", "MixedReference", "UpsideDown", "TwoSided", "henyey_greenstein",
+           "sample_henyey_greenstein"]
 
 _DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
+#: the mirror of the surface plane, M = diag(1, 1, -1)
+_M = np.array([1.0, 1.0, -1.0])
 #: the largest density a walk's product of densities reports (near-delta paths saturate)
 _PDF_MAX = float(np.finfo(np.float64).max)
 #: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
@@ -282,6 +290,21 @@ class LayeredReference(_RandomWalks):
         return np.random.default_rng(
             [self.seed] + [zlib.crc32(np.ascontiguousarray(a).tobytes()) for a in arrays])
 
+    @property
+    def twin(self) -> LayeredReference:
+        """The same slab turned over, its base on top: light entering this one from below
+        is the twin's entering from above, f(wo, wi) = twin.f(M wo, M wi), M = diag(1, 1, -1)
+        (the phase functions here are symmetric under M)."""
+        key = (self.n_samples, self.max_depth, self.seed)
+        if getattr(self, "_twin_key", None) != key:
+            self._twin = LayeredReference(
+                UpsideDown(self.base), UpsideDown(self.top), thickness=self._tau,
+                medium_albedo=self.medium_albedo, g=self.g, n_samples=self.n_samples,
+                max_depth=self.max_depth, seed=self.seed,
+                phase=None if isinstance(self.phase, HenyeyGreenstein) else self.phase)
+            self._twin_key = key
+        return self._twin
+
     def _transmittance(self, dz, w):
         """exp(-|dz| sigma(w) / |cos theta|) along ``w`` (0 in the tangent plane),
         ``(..., 1)``."""
@@ -333,6 +356,9 @@ class LayeredReference(_RandomWalks):
         rng = self._rng(wo, wi)
         f = np.zeros((len(wo), 3))
         err = np.zeros((len(wo), 3))
+        below = np.flatnonzero(wo[:, 2] < 0.0)
+        if len(below):
+            f[below], err[below] = self.twin._eval_error(wo[below] * _M, wi[below] * _M)
         for exits_top, index in self._exit_blocks(wo, wi):
             f[index], err[index] = self._walk_eval(wo[index], wi[index], exits_top, rng)
         up = np.flatnonzero((wo[:, 2] > 0.0) & (wi[:, 2] > 0.0))
@@ -373,6 +399,9 @@ class LayeredReference(_RandomWalks):
         # a stochastic lobe's densities are estimates, which would not weigh the two
         # strategies consistently: next events then take the exit sample alone (weight 1)
         exit_only = _stochastic(exit_) or _stochastic(other)
+        if not exits_top:  # the entry is the first vertex that connects to the exit
+            self._entry_events(wo_w, wi_w, s, idx, x_wi, x_w, x_pdf, x_delta, exit_only,
+                               contribution)
         albedo = self.medium_albedo
         for depth in range(self.max_depth):
             if not len(walks):
@@ -432,14 +461,16 @@ class LayeredReference(_RandomWalks):
                 bs = _draw(lobe, -w, rng.random((len(j), 3)))
                 back = (bs.pdf > 0.0) & (bs.wi[:, 2] * w[:, 2] < 0.0)  # reflected, not out
                 beta = beta * bs.weight
-                if is_other and not (exit_smooth or exit_only):  # next event along bs.wi
+                # next event along bs.wi: where the exit is rough and either both densities
+                # are exact or the other interface is smooth (then the only strategy)
+                if is_other and not exit_smooth and (other_smooth or not exit_only):
                     h = np.flatnonzero(back)
                     if len(h):
                         kh, w_new = kj[h], bs.wi[h]
                         f_exit = exit_._eval(-w_new, wi_w[kh])
-                        exit_pdf = exit_._pdf(wi_w[kh], -w_new)
-                        wt = np.where((bs.flags[h] & _DELTA) != 0, 1.0,
-                                      _power(bs.pdf[h], exit_pdf))
+                        wt = np.ones(len(h)) if other_smooth else _power(
+                            bs.pdf[h], exit_._pdf(wi_w[kh], -w_new))
+                        wt = np.where((bs.flags[h] & _DELTA) != 0, 1.0, wt)
                         np.add.at(contribution, kh, beta[h] * f_exit * wt[:, None]
                                   * self._crossing(w_new))
                 walks.beta[j], walks.w[j] = beta, bs.wi
@@ -449,6 +480,26 @@ class LayeredReference(_RandomWalks):
         mean = c.mean(1)
         se = c.std(1, ddof=1) / np.sqrt(S) if S > 1 else np.zeros_like(mean)
         return mean, se
+
+    def _entry_events(self, wo, wi, s, idx, x_wi, x_w, x_pdf, x_delta, exit_only, out):
+        """Adds to ``out`` the paths that cross the slab once, from the top to the exit in the
+        base (T T, attenuated by one crossing): by the exit's sample from ``wi`` (x), where
+        the top is rough, and by the top's sample from ``wo`` (s, the walks' first step,
+        rows ``idx``), where the exit is rough, weighed by the power heuristic where both
+        densities are exact (else the one strategy that applies, or x's)."""
+        top, exit_ = self.top, self.base
+        if not self._top_smooth:
+            wt = np.ones(len(wo))
+            if not exit_only:
+                wt = np.where(x_delta, 1.0, _power(x_pdf, top._pdf(wo, -x_wi)))
+            out += top._eval(wo, -x_wi) * wt[:, None] * self._crossing(x_wi) * x_w
+        if not self._base_smooth and (self._top_smooth or not exit_only) and len(idx):
+            w_new = s.wi[idx]
+            wt = np.ones(len(idx)) if self._top_smooth else _power(
+                s.pdf[idx], exit_._pdf(wi[idx], -w_new))
+            wt = np.where((s.flags[idx] & _DELTA) != 0, 1.0, wt)
+            out[idx] += (s.weight[idx] * exit_._eval(-w_new, wi[idx]) * wt[:, None]
+                         * self._crossing(w_new))
 
     # -- pdf --------------------------------------------------------------------------------
     def _pdf(self, wo, wi):
@@ -461,6 +512,9 @@ class LayeredReference(_RandomWalks):
             if exits_top:
                 estimate = estimate + self.top._pdf(wo[index], wi[index])
             pdf[index] = _UNIFORM_SHARE / (4.0 * np.pi) + (1.0 - _UNIFORM_SHARE) * estimate
+        below = np.flatnonzero(wo[:, 2] < 0.0)
+        if len(below):
+            pdf[below] = self.twin._pdf(wo[below] * _M, wi[below] * _M)
         return pdf.reshape(batch)
 
     def _eval_pdf(self, wo, wi):
@@ -532,7 +586,20 @@ class LayeredReference(_RandomWalks):
     def _walk_sample(self, wo, u):
         """``(wi, weight, pdf, flags)`` of one walk per ``wo`` [Pharr2023, §14.3.2]'s
         ``LayeredBxDF::Sample_f``; ``pdf`` is the product of the interfaces' densities (the
-        discrete probability of a delta path)."""
+        discrete probability of a delta path). A ``wo`` below enters through the base
+        (``twin``)."""
+        below = np.flatnonzero(wo[:, 2] < 0.0)
+        if len(below):
+            out = self._walk_sample_above(wo, u)
+            twin = self.twin._walk_sample_above(wo[below] * _M, u[below])
+            for a, b in zip(out, twin, strict=True):
+                a[below] = b
+            out[0][below] *= _M
+            return out
+        return self._walk_sample_above(wo, u)
+
+    def _walk_sample_above(self, wo, u):
+        """``_walk_sample`` of walks entering through the top (0 where ``wo`` is below)."""
         rng = self._rng(wo, u)
         s = _draw(self.top, wo, u)
         wi, weight, pdf, flags = s.wi.copy(), s.weight.copy(), s.pdf.copy(), s.flags.copy()
@@ -605,16 +672,18 @@ class LayeredReference(_RandomWalks):
     def _delta_albedo(self, wo):
         """The energy of the delta walks (the top's mirror reflection; where every path can be
         a delta, those through the slab too), from ``n_samples`` walks per direction."""
-        if not self.flags & Flags.DELTA:
-            return np.zeros(wo.shape[:-1] + (3,))
         flat = wo.reshape(-1, 3)
         E = np.zeros((len(flat), 3))
-        for a, b in self._blocks(len(flat)):
-            w = np.repeat(flat[a:b], self.n_samples, axis=0)
+        below = flat[:, 2] < 0.0
+        if np.any(below):  # entering through the base
+            E[below] = self.twin._delta_albedo(flat[below] * _M)
+        above = np.flatnonzero(~below) if self.flags & Flags.DELTA else np.zeros(0, int)
+        for a, b in self._blocks(len(above)):
+            w = np.repeat(flat[above[a:b]], self.n_samples, axis=0)
             wi, weight, _, flags = self._walk_sample(w, self._rng(w).random((len(w), 3)))
             energy = weight * self._energy_scale_rgb(w, wi)
             energy = np.where(((flags & _DELTA) != 0)[:, None], energy, 0.0)
-            E[a:b] = energy.reshape(-1, self.n_samples, 3).mean(1)
+            E[above[a:b]] = energy.reshape(-1, self.n_samples, 3).mean(1)
         return E.reshape(wo.shape[:-1] + (3,))
 
 
@@ -723,3 +792,109 @@ class MixedReference(_RandomWalks):
         return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
 
+def _reflected(w, where):
+    """``w`` mirrored through the surface plane (z -> -z) where ``where`` ``(...)``."""
+    return np.where(where[..., None], w * np.array([1.0, 1.0, -1.0]), w)
+
+
+class _Mirror(_RandomWalks):
+    """``lobe`` seen through the mirror M = diag(1, 1, -1) of its surface plane where
+    ``_turned(wo)`` says: f(wo, wi) = lobe.f(M wo, M wi) there, samples mirrored back. M keeps
+    solid angles and the magnitudes of cosines, so pdfs, sample weights and albedos are the
+    lobe's at M wo; walks and their estimates pass through (``_draw``,
+    ``eval_with_error``)."""
+
+    def __init__(self, lobe: Lobe):
+        if not isinstance(lobe, Lobe) or lobe._param_shape() != ():
+            raise ValueError(f"lobe = {lobe!r}: allowed a lobe with scalar parameters")
+        self.lobe = lobe
+        self.flags = lobe.flags
+        #: a ratio f |cos| / pdf where the lobe's is
+        self.weight_is_ratio = lobe.weight_is_ratio
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.lobe!r})"
+
+    def _turned(self, wo):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _both(self, wo, wi):
+        t = self._turned(wo)
+        return _reflected(wo, t), _reflected(wi, t)
+
+    def _eval(self, wo, wi):
+        return self.lobe._eval(*self._both(wo, wi))
+
+    def _pdf(self, wo, wi):
+        return self.lobe._pdf(*self._both(wo, wi))
+
+    def _eval_pdf(self, wo, wi):
+        return self.lobe._eval_pdf(*self._both(wo, wi))
+
+    def eval_with_error(self, wo, wi) -> tuple[np.ndarray, np.ndarray]:
+        """``(eval(wo, wi), standard error)``, RGB ``(..., 3)`` each (0 error for an exact
+        lobe)."""
+        wo, wi = _params.direction("wo", wo), _params.direction("wi", wi)
+        wo, wi = self._both(*np.broadcast_arrays(wo, wi))
+        if hasattr(self.lobe, "eval_with_error"):
+            return self.lobe.eval_with_error(wo, wi)
+        f = self.lobe.eval(wo, wi)
+        return f, np.zeros_like(f)
+
+    def _energy_scale(self, wo, wi):
+        return self.lobe._energy_scale(*self._both(wo, wi))
+
+    def _energy_scale_rgb(self, wo, wi):
+        return self.lobe._energy_scale_rgb(*self._both(wo, wi))
+
+    def _back(self, s: BSDFSample, wo) -> BSDFSample:
+        t = np.broadcast_to(self._turned(wo), s.pdf.shape)
+        return BSDFSample(_reflected(s.wi, t), s.weight, s.pdf, s.flags)
+
+    def _sample(self, wo, u):
+        return self._back(self.lobe._sample(_reflected(wo, self._turned(wo)), u), wo)
+
+    def _draw(self, wo, u) -> BSDFSample:
+        return self._back(_draw(self.lobe, _reflected(wo, self._turned(wo)), u), wo)
+
+    def _delta_albedo(self, wo):
+        return self.lobe._delta_albedo(_reflected(wo, self._turned(wo)))
+
+
+class UpsideDown(_Mirror):
+    """``lobe`` turned over, f(wo, wi) = lobe.f(M wo, M wi) for every pair: the lower face
+    of a sheet, the same interface as its upper one seen from the other side (light going
+    down from inside a slab meets the interface as the lobe's light from below). Its index
+    is the lobe's inverse.
+
+    Parameters
+    ----------
+    lobe : Lobe, with scalar parameters
+    """
+
+    @property
+    def eta(self):
+        return None if self.lobe.eta is None else 1.0 / self.lobe.eta
+
+    def _turned(self, wo):
+        return np.ones(wo.shape[:-1], dtype=bool)
+
+
+class TwoSided(_Mirror):
+    """A structure symmetric about its middle plane, which a ``LayeredReference`` follows
+    only from above, seen from either side: for wo below the surface both directions are
+    mirrored, f(wo, wi) = lobe.f(M wo, M wi) [OpenPBR2026, §Thin-walled mode: the bulk
+    structure mirrored about the base]. Exact for such a structure (a sheet with the same
+    faces up and down); its index is the lobe's (1 for a sheet).
+
+    Parameters
+    ----------
+    lobe : Lobe, with scalar parameters
+    """
+
+    @property
+    def eta(self):
+        return self.lobe.eta
+
+    def _turned(self, wo):
+        return wo[..., 2] < 0.0

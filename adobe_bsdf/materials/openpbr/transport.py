@@ -40,7 +40,7 @@ import numpy as np
 from scipy import optimize
 
 from adobe_bsdf import _params, media
-from adobe_bsdf.layered import LayeredReference, MixedReference
+from adobe_bsdf.layered import LayeredReference, MixedReference, TwoSided, UpsideDown
 from adobe_bsdf.lobes.dielectric import Dielectric
 from adobe_bsdf.lobes.kulla_conty import DielectricMS
 from adobe_bsdf.lobes.lambert import Lambert
@@ -256,26 +256,81 @@ class _Builder:
             parts.append((fast.lobes["metal"], M))
         return _mixed(parts)
 
-    def coat(self):
+    def sheet(self, n_above):
+        """The thin wall's base [OpenPBR2026, §Thin-walled mode]: sheets the same from both
+        faces (``TwoSided``), side by side as the bulk base's slabs. The metal and the
+        glossy-diffuse slab stay, double-sided and opaque; the translucent base is a slab of
+        the dielectric between two faces of its interface (the lower one ``UpsideDown``),
+        of no thickness but the absorption -ln(transmission_color) per crossing at normal
+        incidence, so that light goes through without net refraction; the subsurface is
+        that slab with a sheet of dense scatterers in its middle, reflecting
+        S (1 - g) / 2 and transmitting S (1 + g) / 2 of what reaches it, each as a unit-albedo
+        EON diffuse (the fast model's ``_thin_subsurface``)."""
+        p, fast = self.p, self.fasts[n_above]
+        M, T, S = (float(p[k]) for k in ("base_metalness", "transmission_weight",
+                                          "subsurface_weight"))
+        parts = []
+        if M < 1.0:
+            interface, _ = self.dielectric_interface(n_above)
+            lower = UpsideDown(interface)
+            if (1.0 - T) * (1.0 - S) > 0.0:
+                rho = diffuse_albedo(interface, float(p["base_weight"]) * p["base_color"],
+                                     seed=self.seed)
+                diffuse = EnergyPreservingOrenNayar(rho, float(p["base_diffuse_roughness"]))
+                parts.append((TwoSided(self.layer(interface, diffuse)),
+                              (1 - M) * (1 - T) * (1 - S)))
+            if (1.0 - T) * S > 0.0:
+                scatterers = TwoSided(fast._thin_subsurface(float(p["base_diffuse_roughness"])))
+                parts.append((TwoSided(self.layer(interface, self.layer(scatterers, lower))),
+                              (1 - M) * (1 - T) * S))
+            if T > 0.0:
+                tint = np.clip(_c(p["transmission_color"]), 1e-300, 1.0)
+                slab = self.layer(interface, lower, thickness=0.0 - np.log(tint))
+                parts.append((TwoSided(slab), (1 - M) * T))
+        if M > 0.0:
+            parts.append((TwoSided(fast.lobes["metal"]), M))
+        return _mixed(parts)
+
+    def coat_top(self):
+        """``(interface, tau)``: the coat's rough dielectric interface and the optical depth
+        of its absorbing slab (``coat_optical_depth``)."""
         p = self.p
         n_c = float(p["coat_ior"])
         alphas = mapping.anisotropic_alphas(p["coat_roughness"], p["coat_roughness_anisotropy"])
         top = self.turned(DielectricMS._new(np.asarray(n_c),
                                             GGX._new(*(np.asarray(a) for a in alphas))),
                           p["geometry_coat_tangent"])
-        tau = coat_optical_depth(top, p["coat_color"], seed=self.seed)
-        return self.layer(top, self.base(n_c), thickness=tau)
+        return top, coat_optical_depth(top, p["coat_color"], seed=self.seed)
 
-    def surface(self):
+    def coat(self):
+        top, tau = self.coat_top()
+        return self.layer(top, self.base(float(self.p["coat_ior"])), thickness=tau)
+
+    def thin_coat(self):
+        """The coated thin wall: the coat's slab on both faces of the sheet, mirrored."""
+        top, tau = self.coat_top()
+        under = self.layer(self.sheet(float(self.p["coat_ior"])), UpsideDown(top),
+                           thickness=tau)
+        return TwoSided(self.layer(top, under, thickness=tau))
+
+    def surface(self, thin_walled: bool = False):
         p = self.p
         C, F = float(p["coat_weight"]), float(p["fuzz_weight"])
-        coated = _mixed([(self.base(1.0) if C < 1.0 else None, 1.0 - C),
-                         (self.coat() if C > 0.0 else None, C)])
+        base, coat = (self.sheet, self.thin_coat) if thin_walled else (self.base, self.coat)
+        coated = _mixed([(base(1.0) if C < 1.0 else None, 1.0 - C),
+                         (coat() if C > 0.0 else None, C)])
         if F > 0.0:
-            r = max(float(p["fuzz_roughness"]), FUZZ_ROUGHNESS_MIN)
+            r = float(p["fuzz_roughness"])
             a = fuzz_flake_albedo(p["fuzz_color"], r, seed=self.seed)
-            fuzz = self.layer(Dielectric(1.0, 0.0), coated, thickness=1.0, medium_albedo=a,
-                              phase=FibreMicroflakes(r))
+            fibres = FibreMicroflakes(max(r, FUZZ_ROUGHNESS_MIN))
+            matched = Dielectric(1.0, 0.0)
+            under = coated
+            if thin_walled:  # the fuzz's slab on both faces: below, over nothing
+                under = self.layer(coated, matched, thickness=1.0, medium_albedo=a,
+                                   phase=fibres)
+            fuzz = self.layer(matched, under, thickness=1.0, medium_albedo=a, phase=fibres)
+            if thin_walled:
+                fuzz = TwoSided(fuzz)
             coated = _mixed([(coated if F < 1.0 else None, 1.0 - F), (fuzz, F)])
         alpha = float(p["geometry_opacity"])
         return _mixed([(PassThrough() if alpha < 1.0 else None, 1.0 - alpha),
@@ -305,9 +360,6 @@ def reference(surface, n_samples: int = 64, seed: int = 0):
         raise ValueError(f"{name} has shape {shape}: the reference follows one material; "
                          "allowed: scalar parameters (a colour (3,))")
     p = surface.params
-    if surface.thin_walled:
-        raise ValueError("geometry_thin_walled = True: the reference of a thin wall is not "
-                         "built yet; allowed: False")
     if surface._hazy and surface.haze_model == "barla2018":
         raise ValueError("haze_model = 'barla2018': the reference follows the specification's "
                          "haze only; allowed: 'dev_1.2'")
@@ -320,7 +372,7 @@ def reference(surface, n_samples: int = 64, seed: int = 0):
     fasts = {1.0: fast(0.0)}
     if float(p["coat_weight"]) > 0.0:
         fasts[float(p["coat_ior"])] = fast(1.0)
-    lobe = _outermost(_Builder(p, fasts, seed).surface(), n_samples)
+    lobe = _outermost(_Builder(p, fasts, seed).surface(surface.thin_walled), n_samples)
     # always a random-walk lobe (``eval_with_error``, ``_draw``), a bare slab's exactly
     return lobe if isinstance(lobe, MixedReference) else MixedReference([lobe], [1.0])
 
@@ -334,4 +386,6 @@ def _outermost(lobe, n_samples):
     elif isinstance(lobe, MixedReference):
         lobe = MixedReference([_outermost(part, n_samples) for part in lobe.parts],
                               lobe.weights)
+    elif isinstance(lobe, TwoSided):
+        lobe = TwoSided(_outermost(lobe.lobe, n_samples))
     return lobe
