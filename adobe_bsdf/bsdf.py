@@ -512,7 +512,8 @@ def _mc_albedo(lobe: Lobe, wo, n_samples, rng):
     count, mean, m2 = 0, 0.0, 0.0
     # a stochastic lobe's walks without their pdf estimates (the same directions and weights)
     draw = getattr(lobe, "_draw", lobe._sample)
-    for start in range(0, n_samples, step):
+    starts = range(0, n_samples, step)
+    for start in config.progress(starts, len(starts), f"{type(lobe).__name__}.albedo"):
         k = min(step, n_samples - start)
         u = rng.random((k, *batch, 3))
         w = np.broadcast_to(wo, u.shape)

@@ -10,6 +10,7 @@ Public API
                                           them inside a ``with`` block.
 ``ANISOTROPIC_ENERGY``                    the values of ``anisotropic_energy``.
 ``RETAINED_MEMORY``                       the default ``retained_memory`` (bytes).
+``progress(blocks, total, desc)``         the blocks of a long call, with a progress bar.
 
 Large batches of ``eval``, ``pdf``, ``eval_pdf`` and ``sample`` are cut into chunks of
 ``chunk_size`` elements, small enough that a chunk's temporaries stay in the CPU cache, and
@@ -51,8 +52,8 @@ from dataclasses import dataclass, replace
 
 from adobe_bsdf import _allocator, _params
 
-__all__ = ["Options", "get_options", "set_options", "options", "map_chunks",
-           "ANISOTROPIC_ENERGY", "RETAINED_MEMORY"]
+__all__ = ["Options", "get_options", "set_options", "options", "map_chunks", "progress",
+           "ANISOTROPIC_ENERGY", "RETAINED_MEMORY", "PROGRESS_DELAY"]
 
 #: values of ``Options.anisotropic_energy``
 ANISOTROPIC_ENERGY = ("table", "exact", "isotropic")
@@ -207,3 +208,33 @@ def map_chunks(fn, n: int) -> None:
             error = error or exc
     if error is not None:
         raise error
+
+
+#: seconds a call runs before its progress bar appears (``progress``)
+PROGRESS_DELAY = 2.0
+_progress_lock = threading.Lock()
+_progress_open = 0
+
+
+def progress(blocks, total: int, desc: str):
+    """``blocks`` (an iterable of ``total`` items), shown as a progress bar on stderr
+    (tqdm) once the call has run ``PROGRESS_DELAY`` seconds: the slow, chunked calls (a
+    random-walk reference's ``eval``, any Monte-Carlo albedo) say how far they are. Only
+    the outermost such call shows one; the calls it makes, in any thread, show none."""
+    global _progress_open
+    if total <= 1:  # nothing to show: the calls inside may show theirs
+        yield from blocks
+        return
+    with _progress_lock:
+        outer = _progress_open == 0
+        _progress_open += 1
+    try:
+        if not outer:
+            yield from blocks
+            return
+        from tqdm import tqdm
+        yield from tqdm(blocks, total=total, desc=desc, delay=PROGRESS_DELAY, leave=False,
+                        unit="block")
+    finally:
+        with _progress_lock:
+            _progress_open -= 1

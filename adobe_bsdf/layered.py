@@ -359,7 +359,8 @@ class LayeredReference(_RandomWalks):
         below = np.flatnonzero(wo[:, 2] < 0.0)
         if len(below):
             f[below], err[below] = self.twin._eval_error(wo[below] * _M, wi[below] * _M)
-        for exits_top, index in self._exit_blocks(wo, wi):
+        blocks = list(self._exit_blocks(wo, wi))
+        for exits_top, index in config.progress(blocks, len(blocks), "LayeredReference.eval"):
             f[index], err[index] = self._walk_eval(wo[index], wi[index], exits_top, rng)
         up = np.flatnonzero((wo[:, 2] > 0.0) & (wi[:, 2] > 0.0))
         if len(up):
@@ -737,8 +738,9 @@ class MixedReference(_RandomWalks):
         return next((lobe.eta for lobe in self.parts if lobe.eta is not None), None)
 
     def _sum(self, method, *args):
-        return sum(w * getattr(lobe, method)(*args)
-                   for w, lobe in zip(self.weights, self.parts, strict=True))
+        parts = zip(self.weights, self.parts, strict=True)
+        return sum(w * getattr(lobe, method)(*args) for w, lobe in config.progress(
+            parts, len(self.parts), f"MixedReference.{method.strip('_')}"))
 
     def _eval(self, wo, wi):
         return self._sum("_eval", wo, wi)

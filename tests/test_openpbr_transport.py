@@ -285,3 +285,49 @@ def test_a_film_on_a_bare_metal_is_the_fast_models_film():
     """The film lies on the interface, so a bare filmed metal's structure is its lobe."""
     m = OpenPBRSurface(**presets.openpbr["iridescent metal"])
     np.testing.assert_array_equal(m.reference().eval(WO, WI), m.eval(WO, WI))
+
+
+# -- resources --------------------------------------------------------------------------------
+def test_the_reference_runs_in_bounded_memory_whatever_the_batch():
+    """A structure (a coat over a metal) evaluated and sampled in blocks of about ``config``
+    ``chunk_size`` (one thread): four times the pairs, the same peak."""
+    import tracemalloc
+
+    from adobe_bsdf import config
+
+    m = OpenPBRSurface(base_color=0.6, coat_weight=1.0, coat_roughness=0.3,
+                       base_metalness=1.0, specular_roughness=0.4)
+    ref = m.reference(n_samples=8)
+    rng = np.random.default_rng(0)
+    peaks = []
+    with config.options(chunk_size=512, threads=1):
+        for n in (500, 2000):
+            wo, wi = (sph(rng.uniform(0.1, 1.0, n), 2.0 * np.pi * rng.random(n))
+                      for _ in range(2))
+            tracemalloc.start()
+            ref.eval(wo, wi)
+            ref.albedo(wo[:4], method="mc", n_samples=n)
+            peaks.append(tracemalloc.get_traced_memory()[1])
+            tracemalloc.stop()
+    assert peaks[1] < 1.2 * peaks[0] + 2e6, peaks
+
+
+def test_a_long_call_shows_one_progress_bar(monkeypatch, capsys):
+    """A call that runs past ``config.PROGRESS_DELAY`` (here 0) shows a bar of its blocks;
+    the layers inside it, evaluated by the same call, show none."""
+    from adobe_bsdf import config
+
+    monkeypatch.setattr(config, "PROGRESS_DELAY", 0.0)
+    m = OpenPBRSurface(base_color=0.6, coat_weight=1.0, coat_roughness=0.3)
+    ref = m.reference(n_samples=4)
+    with config.options(chunk_size=64):
+        ref.albedo(sph(np.array([0.9, 0.5]), 0.0), method="mc", n_samples=200)
+        err = capsys.readouterr().err
+        assert "MixedReference.albedo" in err and "LayeredReference.eval" not in err
+        ref.eval(*(sph(np.full(40, 0.5), np.arange(40.0)) for _ in range(2)))
+        err = capsys.readouterr().err
+        assert "LayeredReference.eval" in err and "albedo" not in err
+    # a call shorter than the delay shows nothing
+    monkeypatch.setattr(config, "PROGRESS_DELAY", 60.0)
+    ref.albedo(sph(np.array([0.9]), 0.0), method="mc", n_samples=50)
+    assert capsys.readouterr().err == ""
