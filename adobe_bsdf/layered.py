@@ -599,8 +599,10 @@ class LayeredReference(_RandomWalks):
             return out
         return self._walk_sample_above(wo, u)
 
-    def _walk_sample_above(self, wo, u):
-        """``_walk_sample`` of walks entering through the top (0 where ``wo`` is below)."""
+    def _walk_sample_above(self, wo, u, arrivals=None):
+        """``_walk_sample`` of walks entering through the top (0 where ``wo`` is below);
+        ``arrivals(rows, beta, w)``, if given, is told of every arrival at the base from
+        above (the walks' rows in ``wo``, their throughputs and directions of travel)."""
         rng = self._rng(wo, u)
         s = _draw(self.top, wo, u)
         wi, weight, pdf, flags = s.wi.copy(), s.weight.copy(), s.pdf.copy(), s.flags.copy()
@@ -648,6 +650,8 @@ class LayeredReference(_RandomWalks):
                 if not len(j):
                     continue
                 w = walks.w[j]
+                if arrivals is not None and lobe is self.base:
+                    arrivals(walks.pair[j], walks.beta[j], w)
                 bs = _draw(lobe, -w, rng.random((len(j), 3)))
                 good = bs.pdf > 0.0
                 out = good & (bs.wi[:, 2] * w[:, 2] > 0.0)  # transmitted: out of the layer
@@ -668,6 +672,21 @@ class LayeredReference(_RandomWalks):
             path_pdf, delta = path_pdf[keep], delta[keep]
             walks.keep(keep)
         return wi, weight, pdf, flags
+
+    def emitted(self, wo, below) -> np.ndarray:
+        """One walk per direction ``wo`` ``(n, 3)`` (above): an unbiased estimate ``(n, 3)`` of
+        the radiance the layer sends towards ``wo`` where its base emits radiance
+        ``below(w)`` ``(m, 3)`` towards every upward direction w: the sum, over the walk's
+        arrivals at the base from above, of its throughput times ``below`` of the direction
+        back up (the walk from ``wo`` is the light's path reversed, its throughput the
+        radiance carried [Veach1997, §3.7])."""
+        total = np.zeros((len(wo), 3))
+
+        def arrive(rows, beta, w):
+            np.add.at(total, rows, beta * below(-w))
+        u = self._rng(wo, np.array([2])).random((len(wo), 3))
+        self._walk_sample_above(wo, u, arrivals=arrive)
+        return total
 
     # -- energy -----------------------------------------------------------------------------
     def _delta_albedo(self, wo):

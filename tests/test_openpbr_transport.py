@@ -287,6 +287,41 @@ def test_a_film_on_a_bare_metal_is_the_fast_models_film():
     np.testing.assert_array_equal(m.reference().eval(WO, WI), m.eval(WO, WI))
 
 
+# -- emission ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("rho", [0.0, 0.8])
+def test_emission_through_a_smooth_clear_coat_is_the_closed_form(rho):
+    """A Lambertian emitter of basic radiance L_e under a smooth clear coat of index n over a
+    Lambertian base of albedo rho (no base interface): the radiance inside is n^2 L_e / (1 -
+    rho rbar) (the coat sends back rbar of it), so L(wo) = L_e (1 - F(mu_o)) / (1 - rho rbar),
+    rbar by scipy quadrature; within 4 sigma and 2e-3 relative."""
+    mu = np.array([1.0, 0.6, 0.2])
+    params = dict(emission_luminance=2.0, base_color=rho, specular_weight=0.0,
+                  base_diffuse_roughness=0.0, coat_ior=1.5, coat_roughness=0.0)
+    bare = OpenPBRSurface(**params).emission(sph(mu))
+    ref = OpenPBRSurface(coat_weight=1.0, **params).reference()
+    L, se = ref.emission_with_error(sph(mu), n_samples=4000)
+    want = bare * ((1.0 - _dielectric(mu, 1.5)) / (1.0 - rho * internal_average(1.5)))[:, None]
+    assert np.all(np.abs(L - want) <= ATOL * want + SIGMAS * se), (L, want, se)
+
+
+def test_a_bare_emitter_is_the_fast_models_and_opacity_scales_it():
+    """Without coat or fuzz the structure emits the fast model's radiance (to rounding: the
+    patches' weights sum to 1); at
+    geometry_opacity 0.4 (the rest no surface) 0.4 of it; a thin wall the same from both
+    faces."""
+    params = dict(emission_luminance=3.0, emission_color=[1.0, 0.5, 0.2], base_color=0.3)
+    wo = sph(np.array([0.9, 0.3]))
+    fast = OpenPBRSurface(**params)
+    np.testing.assert_allclose(fast.reference().emission(wo), fast.emission(wo), rtol=1e-12,
+                               atol=0.0)
+    half = OpenPBRSurface(geometry_opacity=0.4, **params).reference().emission(wo)
+    np.testing.assert_allclose(half, 0.4 * fast.emission(wo), rtol=1e-12, atol=0.0)
+    thin = OpenPBRSurface(geometry_thin_walled=True, coat_weight=1.0, coat_roughness=0.3,
+                          **params).reference()
+    (a, ea), (b, eb) = (thin.emission_with_error(w, 2000) for w in (wo, wo * [1, 1, -1]))
+    assert np.all(a > 0.0) and np.all(np.abs(a - b) <= SIGMAS * np.hypot(ea, eb)), (a, b)
+
+
 # -- resources --------------------------------------------------------------------------------
 def test_the_reference_runs_in_bounded_memory_whatever_the_batch():
     """A structure (a coat over a metal) evaluated and sampled in blocks of about ``config``

@@ -39,7 +39,7 @@ import copy
 import numpy as np
 from scipy import optimize
 
-from adobe_bsdf import _params, media
+from adobe_bsdf import _params, config, media
 from adobe_bsdf.layered import LayeredReference, MixedReference, TwoSided, UpsideDown
 from adobe_bsdf.lobes.dielectric import Dielectric
 from adobe_bsdf.lobes.kulla_conty import DielectricMS
@@ -54,7 +54,8 @@ from adobe_bsdf.phase import FibreMicroflakes
 from adobe_bsdf.sampling import cosine_hemisphere
 from adobe_bsdf.thin_film import ThinFilm
 
-__all__ = ["reference", "coat_optical_depth", "fuzz_flake_albedo", "diffuse_albedo",
+__all__ = ["reference", "OpenPBRReference", "emission_weight", "coat_optical_depth",
+           "fuzz_flake_albedo", "diffuse_albedo",
            "FUZZ_ROUGHNESS_MIN", "HALF_SPACE_DEPTH", "SOLVER_WALKS"]
 
 #: the fibres' roughness floor: fuzz_roughness 0 is a slab of vertical threads, which no
@@ -304,14 +305,15 @@ class _Builder:
 
     def coat(self):
         top, tau = self.coat_top()
-        return self.layer(top, self.base(float(self.p["coat_ior"])), thickness=tau)
+        n_c = float(self.p["coat_ior"])
+        return _over_emitter(self.layer(top, self.base(n_c), thickness=tau), n_c)
 
     def thin_coat(self):
         """The coated thin wall: the coat's slab on both faces of the sheet, mirrored."""
         top, tau = self.coat_top()
-        under = self.layer(self.sheet(float(self.p["coat_ior"])), UpsideDown(top),
-                           thickness=tau)
-        return TwoSided(self.layer(top, under, thickness=tau))
+        n_c = float(self.p["coat_ior"])
+        under = self.layer(self.sheet(n_c), UpsideDown(top), thickness=tau)
+        return TwoSided(_over_emitter(self.layer(top, under, thickness=tau), n_c))
 
     def surface(self, thin_walled: bool = False):
         p = self.p
@@ -328,13 +330,79 @@ class _Builder:
             if thin_walled:  # the fuzz's slab on both faces: below, over nothing
                 under = self.layer(coated, matched, thickness=1.0, medium_albedo=a,
                                    phase=fibres)
-            fuzz = self.layer(matched, under, thickness=1.0, medium_albedo=a, phase=fibres)
+                under.emits_from_top = True  # the emitter is in the sheet, above it
+            fuzz = _over_emitter(self.layer(matched, under, thickness=1.0, medium_albedo=a,
+                                            phase=fibres), 1.0)
             if thin_walled:
                 fuzz = TwoSided(fuzz)
             coated = _mixed([(coated if F < 1.0 else None, 1.0 - F), (fuzz, F)])
         alpha = float(p["geometry_opacity"])
         return _mixed([(PassThrough() if alpha < 1.0 else None, 1.0 - alpha),
                        (coated, alpha)])
+
+
+def _over_emitter(layer, index):
+    """``layer`` marked as lying over the emission [OpenPBR2026, §Emission: under the coat
+    and the fuzz], its slab of refractive ``index`` (``emission_weight``)."""
+    layer.emitter_index = index
+    return layer
+
+
+def emission_weight(lobe, wo) -> np.ndarray:
+    """One walk per direction ``wo`` ``(n, 3)``: an unbiased estimate ``(n, 3)`` of the
+    radiance the structure ``lobe`` sends towards ``wo`` per unit basic radiance L / n^2
+    emitted by its base (Lambertian, upwards, into the medium above it of index n: the
+    ambient's 1, or coat_ior under the coat): 1 for a bare base, the coat and fuzz walked
+    (``LayeredReference.emitted``) where they lie over it, light reflected back down by them
+    and up again by the base included; 0 where there is no surface (``PassThrough``) or wo is
+    below a bulk material."""
+    if isinstance(lobe, MixedReference):
+        return sum(w * emission_weight(part, wo)
+                   for w, part in zip(lobe.weights, lobe.parts, strict=True))
+    if isinstance(lobe, PassThrough):
+        return np.zeros((len(wo), 3))
+    if isinstance(lobe, TwoSided):
+        return emission_weight(lobe.lobe, np.where(wo[:, 2:3] < 0.0, wo * [1.0, 1.0, -1.0], wo))
+    if isinstance(lobe, LayeredReference):
+        if getattr(lobe, "emits_from_top", False):
+            return emission_weight(lobe.top, wo)
+        index = getattr(lobe, "emitter_index", None)
+        if index is not None:
+            return lobe.emitted(wo, lambda w: index * index * emission_weight(lobe.base, w))
+    return np.broadcast_to(np.where(wo[:, 2:3] > 0.0, 1.0, 0.0), (len(wo), 3))
+
+
+class OpenPBRReference(MixedReference):
+    """The lobe of ``reference``: the structure's patches (``MixedReference``) and the
+    radiance its base emits (``radiance``, RGB: emission_luminance times emission_color,
+    ``mapping.emission_radiance``)."""
+
+    def __init__(self, parts, weights, radiance):
+        super().__init__(parts, weights)
+        self.radiance = np.asarray(radiance, dtype=np.float64)
+
+    def emission_with_error(self, wo, n_samples: int = 256) -> tuple[np.ndarray, np.ndarray]:
+        """``(emission(wo), standard error)``, RGB ``(..., 3)`` each: the radiance leaving
+        towards ``wo`` from the emitting base through the coat and the fuzz, averaged over
+        ``n_samples`` walks per direction (``emission_weight``), in blocks of bounded
+        memory."""
+        wo = _params.direction("wo", wo)
+        n_samples = _params.integer("n_samples", n_samples, 2)
+        flat = wo.reshape(-1, 3)
+        mean, se = np.zeros((len(flat), 3)), np.zeros((len(flat), 3))
+        step = max(1, config.get_options().chunk_size // n_samples)
+        blocks = range(0, len(flat), step)
+        for a in config.progress(blocks, len(blocks), "OpenPBRReference.emission"):
+            w = np.repeat(flat[a:a + step], n_samples, axis=0)
+            x = (emission_weight(self, w) * self.radiance).reshape(-1, n_samples, 3)
+            mean[a:a + step] = x.mean(1)
+            se[a:a + step] = x.std(1, ddof=1) / np.sqrt(n_samples)
+        shape = wo.shape[:-1] + (3,)
+        return mean.reshape(shape), se.reshape(shape)
+
+    def emission(self, wo, n_samples: int = 256) -> np.ndarray:
+        """The emitted radiance towards ``wo`` (``emission_with_error``'s estimate)."""
+        return self.emission_with_error(wo, n_samples)[0]
 
 
 def _mixed(parts):
@@ -373,8 +441,12 @@ def reference(surface, n_samples: int = 64, seed: int = 0):
     if float(p["coat_weight"]) > 0.0:
         fasts[float(p["coat_ior"])] = fast(1.0)
     lobe = _outermost(_Builder(p, fasts, seed).surface(surface.thin_walled), n_samples)
+    radiance = mapping.emission_radiance(p["emission_luminance"] * p.get("emission_weight", 1.0),
+                                         p["emission_color"])
     # always a random-walk lobe (``eval_with_error``, ``_draw``), a bare slab's exactly
-    return lobe if isinstance(lobe, MixedReference) else MixedReference([lobe], [1.0])
+    if isinstance(lobe, MixedReference):
+        return OpenPBRReference(lobe.parts, lobe.weights, radiance)
+    return OpenPBRReference([lobe], [1.0], radiance)
 
 
 def _outermost(lobe, n_samples):
