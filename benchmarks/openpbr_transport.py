@@ -56,6 +56,19 @@ SWEEPS = {
                             (0.5, 1.0)),
     "subsurface_weight": ({"subsurface_color": (0.9, 0.6, 0.4)}, "subsurface_weight",
                           (0.5, 1.0)),
+    "geometry_thin_walled": ({"base_color": 0.7, "subsurface_weight": 0.5,
+                              "transmission_weight": 0.3, "coat_weight": 0.5,
+                              "coat_roughness": 0.2, "specular_roughness": 0.3},
+                             "geometry_thin_walled", (True,)),
+}
+#: emitting materials whose emission the page compares: {name: parameters}
+EMITTERS = {
+    "under a clear coat, light base": {"emission_luminance": 100.0, "base_color": 0.8,
+                                       "coat_weight": 1.0, "coat_roughness": 0.2},
+    "under a tinted coat, dark base": {"emission_luminance": 100.0, "base_color": 0.1,
+                                       "coat_weight": 1.0, "coat_roughness": 0.3,
+                                       "coat_color": (0.8, 0.5, 0.3)},
+    "under the fuzz": {"emission_luminance": 100.0, "base_color": 0.5, "fuzz_weight": 1.0},
 }
 #: materials whose polar slices the page shows
 SLICES = ("coated blue", "fuzz grey", "half metal, coat, fuzz")
@@ -167,7 +180,80 @@ def compute(smoke: bool):
             sweeps[label] = [(v, _compare({**base, key: v}, n_mc, n_eval, pairs))
                              for v in (values[:1] if smoke else values)]
         slices = _slices(SLICES[:1] if smoke else SLICES, n_eval, 5 if smoke else 25)
-    return examples, refused, sweeps, slices, dict(n_mc=n_mc, n_eval=n_eval, n_pairs=n_pairs)
+        proposed = {} if smoke else proposals(sweeps)
+        emitted = {name: _emission(params, 256 if smoke else 4096)
+                   for name, params in (list(EMITTERS.items())[:1] if smoke
+                                        else EMITTERS.items())}
+    return (examples, refused, sweeps, slices,
+            dict(n_mc=n_mc, n_eval=n_eval, n_pairs=n_pairs, proposed=proposed,
+                 emitted=emitted))
+
+
+def _emission(params, n):
+    """(fast, structure, its standard error) of the emitted radiance at ``COS_O``, RGB."""
+    wo = _direction(np.array(COS_O), 0.7)
+    fast = OpenPBRSurface(**params)
+    L, se = fast.reference().emission_with_error(wo, n_samples=n)
+    return fast.emission(wo), L, se
+
+
+def _tinted_fuzz_reflection_only(params):
+    """The fuzz proposal: the base under the white fuzz's 1 - E_fuzz(wo) (the coloured
+    flakes absorb what they do not reflect) instead of 1 - fuzz_color E_fuzz(wo): the fast
+    model's albedo less F (1 - fuzz_color) E_fuzz(wo) E_under(wo)."""
+    wo = _direction(np.array(COS_O), 0.7)
+    fast = OpenPBRSurface(**params)
+    under = OpenPBRSurface(**{**params, "fuzz_weight": 0.0}).albedo(wo)
+    E_fuzz = fast.lobes["fuzz"].albedo(wo)
+    c = np.broadcast_to(np.asarray(params["fuzz_color"], dtype=float), (3,))
+    return fast.albedo(wo) - params["fuzz_weight"] * (1.0 - c) * E_fuzz * under
+
+
+def _observed_subsurface(params):
+    """The subsurface proposal: the fast model's subsurface albedo set to what the mapped
+    medium shows under the interface, A (1 - rbar) / (1 - A rbar), A the half-space albedo
+    of the medium (``media.half_space_albedo``) and rbar the interface's reflectance of
+    cosine-distributed light from inside (the structure's ``transport.diffuse_albedo``)."""
+    from adobe_bsdf import media
+    from adobe_bsdf.materials.openpbr import transport
+
+    wo = _direction(np.array(COS_O), 0.7)
+    fast = OpenPBRSurface(**params)
+    ref = fast.reference()
+    slab = next(p for p in ref.parts if getattr(p, "_height", 0.0) == transport.HALF_SPACE_DEPTH)
+    rbar = 2.0 - 1.0 / transport.diffuse_albedo(slab.top, 0.5)
+    m = fast.media()["subsurface"][1]
+    A = media.half_space_albedo(m.sigma_s / m.sigma_t, g=float(m.g)).value
+    observed = A * (1.0 - rbar) / (1.0 - A * rbar)
+    return OpenPBRSurface(**{**params, "subsurface_color": observed}).albedo(wo)
+
+
+#: measured proposals: {name: (what it changes, swept parameter of ``SWEEPS``, albedo)}
+PROPOSALS = {
+    "fuzz: tint its reflection only": (
+        "the base under 1 − F E_fuzz(ω_o) (the white fuzz's) instead of 1 − F fuzz_color "
+        "E_fuzz(ω_o): coloured flakes absorb what they do not reflect", "fuzz_color",
+        _tinted_fuzz_reflection_only),
+    "subsurface: the colour it shows": (
+        "the EON albedo A (1 − r̄) / (1 − A r̄) of the mapped medium under the interface "
+        "(A its half-space albedo, r̄ the interface's internal reflectance of diffuse light) "
+        "instead of subsurface_color", "subsurface_weight", _observed_subsurface),
+}
+
+
+def proposals(sweeps):
+    """{name: [(value, fast's worst |dE|, the proposal's, its standard error)]} against the
+    structure's albedo of the sweep ``PROPOSALS`` names."""
+    out = {}
+    for name, (_, label, albedo) in PROPOSALS.items():
+        base, key, _ = SWEEPS[label]
+        rows = []
+        for v, r in sweeps.get(label, []):
+            E = albedo({**base, key: v})
+            rows.append((v, r["worst"], float(np.max(np.abs(E - r["E_ref"]))),
+                         float(r["se"].max())))
+        out[name] = rows
+    return out
 
 
 def _rgb(x):
@@ -241,6 +327,32 @@ def markdown(examples, refused, sweeps, slices, sizes, seconds):
             "f cos θ_i in the plane of incidence at cos θ_o = 0.7: lines the fast model, "
             "points the structure (bars: one standard error).", "",
             "![slices](figures/openpbr_transport_slices.png)", ""]
+    if sizes.get("emitted"):
+        out += ["## Emission", "",
+                "Radiance emitted towards ω_o (W m⁻² sr⁻¹, RGB): the fast model's one pass "
+                "through the layers (`emission`) against the structure's walks "
+                "(`reference().emission_with_error`, light sent back down and reflected up "
+                "by the base included), and the largest relative difference.", "",
+                "| emitter | cos θ_o | fast | structure | relative \\|Δ\\| |",
+                "|---|---|---|---|---|"]
+        for name, (fast, L, se) in sizes["emitted"].items():
+            for k, mu in enumerate(COS_O):
+                rel = np.abs(fast[k] - L[k]).max() / L[k].max()
+                out.append(f"| {name} | {mu:g} | {_rgb(fast[k])} | {_rgb(L[k])} ± "
+                           f"{se[k].max():.4f} | {rel:.3f} |")
+        out.append("")
+    if sizes.get("proposed"):
+        out += ["## Proposals, measured", "",
+                "Cheap changes to the fast model where it is furthest from the structure, "
+                "each measured against the same walks as the sweep it answers: the worst "
+                "|ΔE| over the angles of the fast model as it is and of the proposal.", "",
+                "| proposal | what it changes | value | fast | proposal | ± |",
+                "|---|---|---|---|---|---|"]
+        for name, rows in sizes["proposed"].items():
+            for v, fast, prop, se in rows:
+                out.append(f"| {name} | {PROPOSALS[name][0]} | {v} | {fast:.4f} | "
+                           f"{prop:.4f} | {se:.4f} |")
+        out.append("")
     out += ["## Cost", "",
             "Per evaluated pair (one batch of the pairs above), and the structure's albedo "
             f"at one view from {sizes['n_mc']} walks (its standard error beside it); one run, "
@@ -254,15 +366,21 @@ def markdown(examples, refused, sweeps, slices, sizes, seconds):
     return "\n".join(out) + "\n"
 
 
-def _flag_block(examples, sweeps):
+def _flag_block(examples, sweeps, proposed=None):
     flagged = _flagged(examples, sweeps)
     if not flagged:
         return (f"No case of [openpbr_transport.md](openpbr_transport.md) differs from the "
                 f"structure by more than {FLAG} in albedo.")
-    return (f"Where the fast model is further than {FLAG} in albedo from the structure "
+    text = (f"Where the fast model is further than {FLAG} in albedo from the structure "
             "(beyond 3 standard errors; measured on [openpbr_transport.md]"
             "(openpbr_transport.md)): " + "; ".join(f"{n} ({d:.3f})" for n, d in flagged)
             + ".")
+    for name, rows in (proposed or {}).items():
+        text += (f"\n\nProposed, {name}: {PROPOSALS[name][0]}. Worst |ΔE| against the "
+                 "structure, the fast model → the proposal: " + "; ".join(
+                     f"{PROPOSALS[name][1]} = {v}: {fast:.3f} → {prop:.3f}"
+                     for v, fast, prop, _ in rows) + ".")
+    return text
 
 
 def run(out: Path | None, smoke: bool) -> Path:
@@ -278,7 +396,8 @@ def run(out: Path | None, smoke: bool) -> Path:
     page = docs / "openpbr.md"
     if out is None:
         page.write_text(with_block(page.read_text(encoding="utf-8"), "openpbr_transport",
-                                   _flag_block(examples, sweeps)), encoding="utf-8")
+                                   _flag_block(examples, sweeps, sizes.get("proposed"))),
+                       encoding="utf-8")
     return path
 
 
