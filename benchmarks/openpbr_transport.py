@@ -96,9 +96,9 @@ def _refused(params):
 
 
 def _compare(params, n_mc, n_eval, pairs):
-    """Albedo by angle of both, eval at pairs, reciprocity, costs."""
-    spec = {k: v for k, v in params.items()}
-    fast = OpenPBRSurface(**spec)
+    """Albedo by angle of both, eval at pairs, reciprocity, costs (``params``: the inputs,
+    or a built ``OpenPBRSurface``)."""
+    fast = params if isinstance(params, OpenPBRSurface) else OpenPBRSurface(**params)
     start = time.perf_counter()
     ref = fast.reference(n_samples=n_eval)
     build = time.perf_counter() - start
@@ -180,13 +180,35 @@ def compute(smoke: bool):
             sweeps[label] = [(v, _compare({**base, key: v}, n_mc, n_eval, pairs))
                              for v in (values[:1] if smoke else values)]
         slices = _slices(SLICES[:1] if smoke else SLICES, n_eval, 5 if smoke else 25)
+        documents = {}
+        for name, material in ({} if smoke else mtlx_examples()).items():
+            try:
+                documents[name] = _compare(material, n_mc // 4, n_eval // 4, pairs)
+            except ValueError as error:
+                refused[name] = str(error).split(":")[0]
         proposed = {} if smoke else proposals(sweeps)
         emitted = {name: _emission(params, 256 if smoke else 4096)
                    for name, params in (list(EMITTERS.items())[:1] if smoke
                                         else EMITTERS.items())}
     return (examples, refused, sweeps, slices,
             dict(n_mc=n_mc, n_eval=n_eval, n_pairs=n_pairs, proposed=proposed,
-                 emitted=emitted))
+                 emitted=emitted, documents=documents))
+
+
+def mtlx_examples() -> dict:
+    """{file stem: OpenPBRSurface} of the OpenPBR example documents (MaterialX) in a folder
+    named ``openpbr_examples`` beside the checkout, as ``tests/test_mtlx.py`` finds them;
+    empty where there is none."""
+    from adobe_bsdf.io import load_mtlx
+
+    root = Path(__file__).resolve().parents[1]
+    files = sorted(f for folder in root.parent.glob("*/openpbr_examples")
+                   for f in folder.glob("*.mtlx"))
+    out = {}
+    for f in files:
+        for i, (name, material) in enumerate(load_mtlx(f).items()):
+            out[f.stem if i == 0 else f"{f.stem}/{name}"] = material
+    return out
 
 
 def _emission(params, n):
@@ -269,10 +291,11 @@ def _albedo_rows(label, r):
     return out
 
 
-def _flagged(examples, sweeps):
+def _flagged(examples, sweeps, documents=None):
     """[(case, worst difference)] beyond ``FLAG`` (beyond 3 sigma too)."""
     out = []
     cases = [(n, r) for n, r in examples.items()]
+    cases += [(f"the example document {n}", r) for n, r in (documents or {}).items()]
     cases += [(f"{label} = {v}", r) for label, rows in sweeps.items() for v, r in rows]
     for name, r in cases:
         d = np.abs(r["E_fast"] - r["E_ref"])
@@ -299,6 +322,17 @@ def markdown(examples, refused, sweeps, slices, sizes, seconds):
     if refused:
         out += ["", "Not followed yet by the structure (refused, with the input named): "
                 + "; ".join(f"{n} ({why})" for n, why in refused.items()) + "."]
+    if sizes.get("documents"):
+        out += ["", "## The OpenPBR example documents", "",
+                f"The {len(sizes['documents'])} MaterialX examples of the OpenPBR repository "
+                "(v1.1.1, read by `io.load_mtlx` from a folder named `openpbr_examples` beside "
+                f"the checkout), the structure from {sizes['n_mc'] // 4} walks per view: the "
+                "worst |ΔE| over the angles.", "",
+                "| document | worst \\|ΔE\\| | ± | at cos θ_o |", "|---|---|---|---|"]
+        for name, r in sizes["documents"].items():
+            d = np.abs(r["E_fast"] - r["E_ref"]).max(-1)
+            k = int(np.argmax(d))
+            out.append(f"| {name} | {d[k]:.4f} | {r['se'][k].max():.4f} | {COS_O[k]:g} |")
     out += ["", "## Sweeps of the parameters the approximations touch", "",
             "| parameter | value | worst \\|ΔE\\| over the angles | at cos θ_o |",
             "|---|---|---|---|"]
@@ -366,8 +400,8 @@ def markdown(examples, refused, sweeps, slices, sizes, seconds):
     return "\n".join(out) + "\n"
 
 
-def _flag_block(examples, sweeps, proposed=None):
-    flagged = _flagged(examples, sweeps)
+def _flag_block(examples, sweeps, proposed=None, documents=None):
+    flagged = _flagged(examples, sweeps, documents)
     if not flagged:
         return (f"No case of [openpbr_transport.md](openpbr_transport.md) differs from the "
                 f"structure by more than {FLAG} in albedo.")
@@ -396,7 +430,8 @@ def run(out: Path | None, smoke: bool) -> Path:
     page = docs / "openpbr.md"
     if out is None:
         page.write_text(with_block(page.read_text(encoding="utf-8"), "openpbr_transport",
-                                   _flag_block(examples, sweeps, sizes.get("proposed"))),
+                                   _flag_block(examples, sweeps, sizes.get("proposed"),
+                                               sizes.get("documents"))),
                        encoding="utf-8")
     return path
 
