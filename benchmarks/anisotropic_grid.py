@@ -51,7 +51,9 @@ EXTREMES = [(2.0, 0.0, 3.0), (2.0, 1.0, 1.011), (0.005, 0.0, 1.011), (1.2, 0.02,
             # the corners of what the library reads from the grid
             (2.0, 0.037, 1.031), (0.0157, 0.037, 3.0), (0.0157, 1.0, 1.031), (2.0, 1.0, 1.031),
             # nearly index-matched and very rough, seen from the dense side near mu = 1 / eta
-            (2.0, 0.99, 1.045), (2.0, 0.5, 1.045), (1.0, 0.9, 1.06), (2.0, 0.99, 1.12)]
+            (2.0, 0.99, 1.045), (2.0, 0.5, 1.045), (1.0, 0.9, 1.06), (2.0, 0.99, 1.12),
+            # the refined patch's edges
+            (0.62, 0.5, 1.2), (0.7, 0.04, 1.035), (1.3, 0.25, 1.09), (0.6, 0.9, 1.06)]
 PAIRS, ROUNDS = 20000, 7
 
 
@@ -67,15 +69,20 @@ def _directions(rng, n):
     return np.exp(rng.uniform(np.log(1e-3), 0.0, n)), rng.uniform(0.0, 1.0, n)
 
 
-def compare(grid, interface, seed: int = SEED) -> dict:
-    """Errors of the grid's slice at ``interface`` against the exact one."""
+def compare(columns_of, interface, seed: int = SEED) -> dict:
+    """Errors against the exact slice at ``interface`` of the slice that the library reads
+    from the grids ``columns_of`` gives (``dielectric_grid.read_slice``), or where it reads
+    none, of the whole grid's."""
     exact = dielectric_slice(*interface)
-    piece = dielectric_grid.interpolated_slice(grid, *interface)
+    coarse = dielectric_grid.interpolated_slice(columns_of(dielectric_grid.GRID), *interface)
+    piece = dielectric_grid.read_slice(columns_of, *interface) or coarse
     rng = np.random.default_rng(seed)
     out = {}
     for side, on_light in (("light", True), ("dense", False)):
         mu, cos_phi = _directions(rng, DIRECTIONS)
         d = piece(on_light, mu, cos_phi) - exact(on_light, mu, cos_phi)
+        out[side + " grid alone"] = (coarse(on_light, mu, cos_phi)
+                                     - exact(on_light, mu, cos_phi)).sum(-1)
         out[side] = d.sum(-1)
         out[side + " E_R"] = d[..., 0]
         out[side + " average"] = (piece.average(on_light) - exact.average(on_light)).sum()
@@ -306,7 +313,9 @@ def _bake_lines(cost: dict) -> list[str]:
 
 def measure(smoke: bool = False, path: Path | None = None) -> dict:
     path = Path(path) if path is not None else dielectric_grid._path()
-    grid = dielectric_grid.stored_columns(path)
+    grid = dielectric_grid.folder_columns(path)
+    if grid(dielectric_grid.GRID) is None:
+        raise FileNotFoundError(f"{path} does not hold the whole grid")
     cases = interfaces(SMOKE_INTERFACES if smoke else INTERFACES)
     extremes = EXTREMES[:1] if smoke else EXTREMES
     rows = [(c, compare(grid, c)) for c in cases + extremes]
@@ -325,6 +334,13 @@ def _read(interface) -> bool:
     """Whether the library reads this interface's slice from the grid (elsewhere it
     computes it: ``dielectric_grid.interpolated``)."""
     return dielectric_grid.interpolated(*interface)
+
+
+def _source(interface) -> str:
+    """Where the library's slice of this interface comes from."""
+    if not _read(interface):
+        return "no: computed"
+    return "refined patch" if dielectric_grid.PATCH.stencils(*interface) else "yes"
 
 
 def _split(rows):
@@ -346,6 +362,16 @@ def _computed_line(rows) -> list[str]:
             f"{dielectric_grid.ALPHA_INTERPOLATED:.3g}: `dielectric_grid.interpolated`), the "
             f"grid would miss E_R + E_T by up to {worst:.1e}; there the default's slice is "
             "the exact mode's."]
+
+
+def _patch_alpha() -> float:
+    """The least alpha_max read from the refined patch (its second roughness node)."""
+    return float(np.unique(dielectric_grid.PATCH.points("below")[:, 0])[1])
+
+
+def _patch_eta() -> float:
+    """The largest index ratio read from the refined patch (its last but one)."""
+    return float(np.unique(dielectric_grid.PATCH.points("below")[:, 2])[-2])
 
 
 def _stats(values) -> tuple[float, float]:
@@ -370,13 +396,17 @@ def markdown(result: dict, seconds: float) -> str:
         out.append(f"| {key} (E_R + E_T unless named) | {worst:.1e} | {rms:.1e} |")
     out += _computed_line(rows)
     out += ["", "| interface (alpha, ratio, eta) | read from the grid | light | dense | "
-            "light E_R | dense E_R |", "|---|---|---|---|---|---|"]
+            "light E_R | dense E_R | dense, the grid alone |", "|---|---|---|---|---|---|---|"]
     for c, r in rows:
         out.append(f"| ({c[0]:.4g}, {c[1]:.3g}, {c[2]:.5g}) | "
-                   f"{'yes' if _read(c) else 'no: computed'} | "
+                   f"{_source(c)} | "
                    + " | ".join(f"{np.abs(r[k]).max():.1e}"
-                                for k in ("light", "dense", "light E_R", "dense E_R")) + " |")
-    out += ["", f"The grid's files ({result['path']}/, one per index ratio): "
+                                for k in ("light", "dense", "light E_R", "dense E_R",
+                                          "dense grid alone")) + " |")
+    out += ["", "The refined patch (`dielectric_grid.PATCH`: alpha_max >= "
+            f"{_patch_alpha():.3g}, index ratios {dielectric_grid.ETA_INTERPOLATED:.4g} to "
+            f"{_patch_eta():.3g}) is read where the table says so; elsewhere the grid.", "",
+            f"The grid's files ({result['path']}/, one per index ratio, the patch's too): "
             f"{result['bytes'] / 2**20:.2f} MB."]
     if "costs" in result:
         out += ["", "## Cost", "", "| lobe | eval / isotropic | sample / isotropic |",

@@ -41,15 +41,24 @@ def test_a_grid_point_holds_its_slice():
 def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
     """With a stand-in for the slices: slices and columns already finished are kept (not
     computed again), the rest computed, each column stored as soon as its slices are done
-    (the finished slices then removed), and every point's values are at its index."""
-    calls = []
+    (the finished slices then removed), and every point's values are at its index; a
+    refined patch is baked in the refined layout into files of its own."""
+    calls, refined_calls = [], []
 
     def fake(point):
         calls.append(point)
         return np.full((3, 2), (point[0] + point[1] + point[2] - 1.0) / 6.0,
                        dtype=np.float32)
 
+    def fake_refined(point, refined=False):
+        assert refined
+        refined_calls.append(point)
+        return np.full((5, 2), point[0] / 4.0, dtype=np.float32)
+
+    patch = grid.SliceGrid({"below": ((1, 2), (3, 4), (2, 4))}, refined=True, prefix="r-")
+    monkeypatch.setattr(grid, "GRIDS", (patch, grid.GRID))
     monkeypatch.setattr(grid, "slice_values", fake)
+    monkeypatch.setattr(grid, "point_values", fake_refined)
     partial = tmp_path / f"{grid.NAME}.partial"
     partial.mkdir()
     n_eta = grid.HALVES["below"][2].n
@@ -64,7 +73,9 @@ def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
     n = sum(len(grid.grid_points(h)) for h in grid.HALVES)
     n_column = len(grid.grid_points("above")) // grid.HALVES["above"][2].n
     assert len(calls) == n - 1 - n_column
-    assert stored == [c for c in grid.columns() if c != ("above", 4)]  # in column order
+    assert len(refined_calls) == 2 * 2 * 3
+    assert stored == [c for c in grid.columns() if c != ("above", 4)] + [
+        ("below", k) for k in range(3)]  # in column order, the grid's first
     assert not partial.exists()
     column = grid.stored_columns(out)
     for half in grid.HALVES:
@@ -78,6 +89,13 @@ def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
                 want[0, 1] = 0.25  # the file found, not recomputed
             assert values.shape == want.shape + (3, 2)
             assert np.abs(values - want[..., None, None]).max() <= 0.5 / grid.QUANTUM + 1e-7
+    refined = grid.stored_columns(out, patch)
+    points = grid.grid_points("below").reshape(tuple(a.n for a in grid.HALVES["below"]) + (3,))
+    for k in range(3):
+        values = refined("below", k)
+        want = points[1:3, 3:5, 2 + k, 0] / 4.0
+        assert values.shape == (2, 2, 5, 2)
+        assert np.abs(values - want[..., None, None]).max() <= 0.5 / grid.QUANTUM + 1e-7
 
 
 def test_the_grid_is_baked_at_its_points_only(capsys):
@@ -124,9 +142,36 @@ def test_interpolated_slice_between_grid_points(interface):
         (p.segment, p.band, p.lo, p.hi) for p in _layout(interface)]
 
 
-def _layout(interface):
+@pytest.mark.parametrize("interface", [(0.9, 0.3, 1.07), (2.0, 1.0, 1.031),
+                                       (0.62, 0.04, 1.2)])
+def test_the_refined_patch_interpolates_in_its_own_layout(interface):
+    """Inside the refined patch (alpha >= 0.617, eta <= 1.21) every node's value is the
+    interpolant's over the patch's own points, laid out refined: a quadratic comes back to
+    rounding."""
+    patch = grid.PATCH
+    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1]))
+                  for p in _layout(interface, refined=True))
+    values, exact = _quadratic_grid(n_nodes)
+    (a0, a1), (r0, r1), (e0, e1) = patch.spans["below"]
+    own = {"below": values["below"][a0:a1 + 1, r0:r1 + 1, e0:e1 + 1]}
+    piece = grid.interpolated_slice(grid.array_columns(own), *interface, grid=patch)
+    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
+    np.testing.assert_allclose(got, exact(*interface), rtol=0, atol=1e-9)
+    assert piece.n_nodes == n_nodes > grid.interpolated_slice(
+        grid.array_columns(values), *interface).n_nodes
+
+
+@pytest.mark.parametrize("interface", [(0.5, 0.3, 1.07), (0.9, 0.3, 1.25),
+                                       (0.9, 0.02, 1.07), (0.9, 0.3, 2.0)])
+def test_the_refined_patch_ends_where_its_stencils_do(interface):
+    """Outside the cells whose stencils lie inside the patch it has no slice."""
+    assert grid.PATCH.stencils(*interface) is None
+    assert grid.interpolated_slice(lambda half, k: None, *interface, grid=grid.PATCH) is None
+
+
+def _layout(interface, refined=False):
     from adobe_bsdf.tables.dielectric_slices import layout
-    return layout(*interface)
+    return layout(*interface, refined=refined)
 
 
 def test_interpolated_slice_off_the_grid_and_at_sqrt2():
@@ -146,19 +191,23 @@ def test_interpolated_slice_off_the_grid_and_at_sqrt2():
 @pytest.fixture
 def synthetic_grid(monkeypatch):
     """The library as if it shipped a grid whose every slice holds E_R = 0.125 and
-    E_T = 0.75 (exact in the rounding of ``encode``)."""
+    E_T = 0.75 and a refined patch whose every slice holds E_R = 0.25 and E_T = 0.5 (exact in
+    the rounding of ``encode``)."""
     import adobe_bsdf.tables.dielectric_grid as module
 
-    values = {}
-    for half, axes in module.HALVES.items():
+    def constant(grid, half, e_r, e_t, refined=False):
         n = sum(int(np.prod(p.table.spec.shape[:-1]))
-                for p in _layout((0.3, 0.3, 1.2 if half == "below" else 2.0)))
-        v = np.empty(tuple(a.n for a in axes) + (n, 2))
-        v[..., 0], v[..., 1] = 0.125, 0.75
-        values[half] = v
+                for p in _layout((0.7, 0.3, 1.2 if half == "below" else 2.0), refined))
+        v = np.empty(grid.shape(half) + (n, 2))
+        v[..., 0], v[..., 1] = e_r, e_t
+        return v
+
+    columns = {module.GRID: {h: constant(module.GRID, h, 0.125, 0.75) for h in module.HALVES},
+               module.PATCH: {"below": constant(module.PATCH, "below", 0.25, 0.5, True)}}
     module.grid_slice.cache_clear()
-    monkeypatch.setattr(module, "shipped", lambda: True)
-    monkeypatch.setattr(module, "_shipped_columns", lambda: module.array_columns(values))
+    monkeypatch.setattr(module, "shipped", lambda grid=module.GRID: True)
+    monkeypatch.setattr(module, "_shipped_columns",
+                        lambda grid=module.GRID: module.array_columns(columns[grid]))
     yield
     module.grid_slice.cache_clear()
 
@@ -182,6 +231,21 @@ def test_default_lobes_read_the_shipped_grid(synthetic_grid):
     with ab.config.options(anisotropic_energy="exact"):
         assert lobes.Dielectric(1.45, 0.4, 0.1).slices == "exact"
     assert lobes.Dielectric(1.45, 0.4, 0.4).slices == ""  # isotropic: the tables
+
+
+@pytest.mark.parametrize("eta", [1.05, 1 / 1.05, 1.2])
+def test_the_rough_nearly_matched_corner_reads_the_refined_patch(synthetic_grid, eta):
+    """A rough (alpha_max >= 0.62), nearly index-matched interface (ratio 1.03 to 1.21)
+    reads the refined patch (E_R + E_T 0.75 from either side); a smoother one or one of a
+    higher index the grid (0.875)."""
+    from adobe_bsdf import lobes
+
+    wo = np.array([[0.3, 0.4, np.sqrt(0.75)], [0.6, 0.0, -0.8]])
+    for alpha_x, alpha_y, want in ((0.9, 0.3, 0.75), (1.5, 1.2, 0.75), (0.5, 0.2, 0.875)):
+        albedo = lobes.Dielectric(eta, alpha_x, alpha_y).albedo(wo, method="table")
+        np.testing.assert_allclose(albedo[..., 0], want, rtol=0, atol=1e-12)
+    albedo = lobes.Dielectric(1.5, 0.9, 0.3).albedo(wo, method="table")
+    np.testing.assert_allclose(albedo[..., 0], 0.875, rtol=0, atol=1e-12)
 
 
 def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
@@ -221,3 +285,20 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
     assert f"| the light side | {worst:.1e} |" in new
     with pytest.raises(ValueError, match="no <!-- measured: anisotropic_grid"):
         with_block("no block", anisotropic_grid.SUMMARY, "x")
+
+
+@pytest.mark.parametrize("interface", [(0.8725, 0.928, 1.06), (0.3, 0.5, 1.2),
+                                       (1.5, 0.2, 2.5)])
+def test_every_dense_direction_finds_its_part_at_the_kinks(interface):
+    """At exactly mu = 1 / eta and mu = mu_c, along either axis (|cos phi| 0 and 1), where a
+    segment or a band ends, the slice's value is its neighbours' (a direction once fell
+    between the parts there and read 0)."""
+    alpha, ratio, eta = interface
+    piece = grid.grid_slice(*interface)
+    mu_c = np.sqrt(1.0 - 1.0 / eta**2)
+    for mu in (1.0 / eta, mu_c, 1.0):
+        for c in (0.0, 1.0):
+            at = piece(False, np.array([mu]), np.array([c]))
+            near = piece(False, np.array([mu * (1.0 - 1e-9)]), np.array([c]))
+            np.testing.assert_allclose(at, near, rtol=0.0, atol=1e-6)
+            assert at.sum() > 0.1  # not the 0 of no part

@@ -15,12 +15,24 @@ Public API
                            the ``DielectricSlice`` of any interface on the grid: its node
                            values interpolated across the grid points (cubic convolution
                            per axis, ``Axis.stencil``); None where eta is off the grid.
+``GRID``, ``PATCH``, ``GRIDS``
+                           the whole grid (``SliceGrid``) and its refined patch, read first.
+``read_slice(columns_of, alpha, ratio, eta)``
+                           the slice the library reads: the first grid that holds it.
 ``stored_columns(folder)`` / ``array_columns(grid)``
                            the grid's columns, read from files (each when first needed) or
                            from arrays.
 
 The grid is stored one column a file (``write_column``, ``encode``): an interface reads the
 four columns about its index ratio, and a bake that stops keeps what it finished.
+
+The refined patch (``PATCH``). Where a very rough interface is nearly index-matched, its
+energy seen from the dense side peaks near mu = 1 / eta, where the grid's layout has few
+nodes: there the grid misses by up to 1.3e-2. The patch holds the grid's own points about
+that corner (alpha_max from 0.46, index ratios up to 1.3, every roughness ratio) in the
+refined layout (``dielectric_slices.layout``, twice the nodes), baked and stored as the grid
+is (files ``refined-below_<k>.npz``), and is read wherever an interface's stencils lie
+inside it; its error is measured in ``docs/anisotropic_grid_measured.md``.
 
 Why a grid of slices (measured in ``docs/anisotropic_candidates_measured.md``): node for
 node, a slice's values (in coordinates aligned with the critical angle and the kinks of a
@@ -47,6 +59,7 @@ from __future__ import annotations
 import functools
 import lzma
 import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -65,7 +78,8 @@ __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "d
            "columns", "column_file", "write_column", "read_column", "stored_columns",
            "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN",
            "interpolated", "ETA_INTERPOLATED", "RATIO_INTERPOLATED", "ALPHA_INTERPOLATED",
-           "ETA_MAX", "ALPHA_MAX"]
+           "ETA_MAX", "ALPHA_MAX", "SliceGrid", "GRID", "PATCH", "GRIDS", "point_values",
+           "read_slice", "folder_columns"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -110,44 +124,102 @@ def _physical(q_alpha, q_ratio, q_eta):
             1.0 + np.exp(q_eta) - ETA_OFFSET)
 
 
+@dataclass(frozen=True, eq=False)  # each grid is itself (hashed by identity)
+class SliceGrid:
+    """Slices at the points of ``HALVES`` whose node indices lie in ``spans`` (per half, per
+    axis (q_alpha, q_ratio, q_eta), the first and last index), in the grid's layout or the
+    refined one (``dielectric_slices.layout``); stored in files whose names start with
+    ``prefix``. ``GRID`` is the whole grid; ``PATCH`` a refined part of it."""
+
+    spans: dict
+    refined: bool = False
+    prefix: str = ""
+
+    def shape(self, half: str) -> tuple[int, int, int]:
+        return tuple(hi - lo + 1 for lo, hi in self.spans[half])
+
+    def points(self, half: str) -> np.ndarray:
+        """``(n, 3)`` (alpha, ratio, eta) of every point, in C order."""
+        q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
+                          in zip(HALVES[half], self.spans[half], strict=True)], indexing="ij")
+        return np.stack(_physical(*[x.ravel() for x in q]), -1)
+
+    def columns(self) -> list[tuple[str, int]]:
+        """(half, k) of every column: the slices at one index ratio."""
+        return [(half, k) for half in self.spans for k in range(self.shape(half)[2])]
+
+    def stencils(self, alpha: float, ratio: float, eta: float):
+        """(half, [(indices, weights)] per axis, q_eta) of the interpolant at the interface,
+        the indices this grid's own; None where the stencil leaves the grid."""
+        half, q_eta = _half(eta)
+        if half not in self.spans:
+            return None
+        coords = (np.log(min(alpha, ALPHA_MAX) + ALPHA_OFFSET),
+                  np.log(min(max(ratio, 0.0), 1.0) + RATIO_OFFSET), q_eta)
+        out = []
+        for axis, q, (lo, hi) in zip(HALVES[half], coords, self.spans[half], strict=True):
+            index, weights = axis.stencil(np.clip(q, axis.lo, axis.hi))
+            if index.min() < lo or index.max() > hi:
+                return None
+            out.append((index - lo, weights))
+        return half, out, q_eta
+
+
+#: the whole grid, in the layout it was baked in
+GRID = SliceGrid({half: tuple((0, a.n - 1) for a in axes) for half, axes in HALVES.items()})
+#: the rough, nearly index-matched corner in the refined layout: there, seen from the dense
+#: side near mu = 1 / eta where the energy peaks, the grid's layout misses by up to 1.3e-2
+#: (alpha 2, ratio 1, eta 1.031; ``benchmarks.anisotropic_grid``'s extremes). Read for
+#: alpha_max >= 0.617 and index ratios up to 1.21 (where its stencils lie inside it).
+PATCH = SliceGrid({"below": ((11, 16), (1, 11), (0, 6))}, refined=True, prefix="refined-")
+#: every grid the library reads, the patch first
+GRIDS = (PATCH, GRID)
+
+
 def grid_points(half: str) -> np.ndarray:
-    """``(n, 3)`` (alpha, ratio, eta) of every point of ``half``'s grid, in C order."""
-    q = np.meshgrid(*[a.nodes() for a in HALVES[half]], indexing="ij")
-    return np.stack(_physical(*[x.ravel() for x in q]), -1)
+    """``(n, 3)`` (alpha, ratio, eta) of every grid point, in C order."""
+    return GRID.points(half)
+
+
+def point_values(point, refined: bool = False) -> np.ndarray:
+    """``(n_nodes, 2)`` float32 node values (E_R, E_T) of the slice at ``point`` = (alpha,
+    ratio, eta), in ``dielectric_slices.node_directions``' order: those of
+    ``dielectric_slice(*point, refined=refined)``."""
+    point = tuple(float(x) for x in point)
+    parts = layout(*point, refined=refined)
+    return node_energy(*point, *node_directions(parts)).astype(np.float32)
 
 
 def slice_values(point) -> np.ndarray:
-    """``(n_nodes, 2)`` float32 node values (E_R, E_T) of the slice at ``point`` = (alpha,
-    ratio, eta), in ``dielectric_slices.node_directions``' order: those of
-    ``dielectric_slice(*point, refined=False)`` (the grid's layout)."""
-    point = tuple(float(x) for x in point)
-    return node_energy(*point, *node_directions(layout(*point))).astype(np.float32)
+    """``point_values`` in the grid's layout (not refined)."""
+    return point_values(point)
 
 
 def _task(task):
-    half, index, point = task
-    return half, index, slice_values(point)
+    refined, key, index, point = task
+    return key, index, point_values(point, True) if refined else slice_values(point)
 
 
 def _shape(half: str) -> tuple[int, int, int]:
-    return tuple(a.n for a in HALVES[half])
+    return GRID.shape(half)
 
 
-def column_file(folder, half: str, k: int) -> Path:
-    """``<folder>/<half>_<k>.npz``: the stored slices of ``half``'s k-th index ratio."""
-    return Path(folder) / f"{half}_{k:02d}.npz"
+def column_file(folder, half: str, k: int, grid: SliceGrid = GRID) -> Path:
+    """``<folder>/<prefix><half>_<k>.npz``: the stored slices of ``grid``'s column (``half``,
+    ``k``), its k-th index ratio."""
+    return Path(folder) / f"{grid.prefix}{half}_{k:02d}.npz"
 
 
 def columns() -> list[tuple[str, int]]:
     """(half, k) of every column of the grid: the slices at one index ratio."""
-    return [(half, k) for half in HALVES for k in range(_shape(half)[2])]
+    return GRID.columns()
 
 
-def write_column(folder, half: str, k: int, values) -> Path:
-    """Store ``values`` ``(n_alpha, n_ratio, n_nodes, 2)``, the slices of column (``half``,
-    ``k``): ``encode``'s integers, xz-compressed (written under a temporary name, then
-    renamed)."""
-    out = column_file(folder, half, k)
+def write_column(folder, half: str, k: int, values, grid: SliceGrid = GRID) -> Path:
+    """Store ``values`` ``(n_alpha, n_ratio, n_nodes, 2)``, the slices of ``grid``'s column
+    (``half``, ``k``): ``encode``'s integers, xz-compressed (written under a temporary name,
+    then renamed)."""
+    out = column_file(folder, half, k, grid)
     out.parent.mkdir(parents=True, exist_ok=True)
     stored = encode(values)
     packed = np.frombuffer(lzma.compress(stored.astype("<i4").tobytes(), preset=9), np.uint8)
@@ -165,42 +237,52 @@ def read_column(path) -> np.ndarray:
 
 
 def bake(folder, executor, progress: bool = True) -> Path:
-    """Compute every grid point's slice on ``executor`` (``executors.open_executor``) into
-    ``<folder>/<NAME>/``, one file per column (``write_column``) as soon as its slices are
-    done; finished slices wait in ``<folder>/<NAME>.partial`` until then. A bake that stops
-    resumes from both: columns already written are not computed again."""
+    """Compute every slice of every grid (``GRIDS``) on ``executor``
+    (``executors.open_executor``) into ``<folder>/<NAME>/``, one file per column
+    (``write_column``) as soon as its slices are done; finished slices wait in
+    ``<folder>/<NAME>.partial`` until then. A bake that stops resumes from both: columns
+    already written are not computed again."""
     from tqdm import tqdm
 
     folder = Path(folder)
     out, partial = folder / NAME, folder / f"{NAME}.partial"
     partial.mkdir(parents=True, exist_ok=True)
 
-    def done(half, i):
-        return partial / f"{half}_{i:05d}.npy"
+    def done(grid, half, i):
+        return partial / f"{grid.prefix}{half}_{i:05d}.npy"
 
-    def store_if_complete(half, k):
-        n_alpha, n_ratio, n_eta = _shape(half)
-        files = [done(half, i) for i in range(k, n_alpha * n_ratio * n_eta, n_eta)]
-        if column_file(out, half, k).exists() or not all(f.exists() for f in files):
+    def store_if_complete(grid, half, k):
+        n_alpha, n_ratio, n_eta = grid.shape(half)
+        files = [done(grid, half, i) for i in range(k, n_alpha * n_ratio * n_eta, n_eta)]
+        if column_file(out, half, k, grid).exists() or not all(f.exists() for f in files):
             return
         values = np.stack([np.load(f) for f in files])
-        write_column(out, half, k, values.reshape((n_alpha, n_ratio) + values.shape[1:]))
+        write_column(out, half, k, values.reshape((n_alpha, n_ratio) + values.shape[1:]),
+                     grid)
         for f in files:
             f.unlink()
 
-    for half, k in columns():
-        store_if_complete(half, k)
-    tasks = [(half, i, tuple(p)) for half in HALVES for i, p in enumerate(grid_points(half))
-             if not column_file(out, half, i % _shape(half)[2]).exists()
-             and not done(half, i).exists()]
-    tasks.sort(key=lambda t: (t[0] == "above", t[1] % _shape(t[0])[2]))  # column by column
-    n = sum(int(np.prod(_shape(h))) for h in HALVES)
+    grids = {grid.prefix: grid for grid in GRIDS}
+    tasks = []
+    for grid in grids.values():
+        for half, k in grid.columns():
+            store_if_complete(grid, half, k)
+        n_eta = grid.shape  # column of point i: i % n_eta
+        tasks += [(grid.refined, (grid.prefix, half), i, tuple(p))
+                  for half in grid.spans for i, p in enumerate(grid.points(half))
+                  if not column_file(out, half, i % n_eta(half)[2], grid).exists()
+                  and not done(grid, half, i).exists()]
+    # grid by grid, column by column
+    tasks.sort(key=lambda t: (t[1][0] != "", t[1][1] == "above",
+                              t[2] % grids[t[1][0]].shape(t[1][1])[2]))
+    n = sum(int(np.prod(g.shape(h))) for g in grids.values() for h in g.spans)
     with tqdm(total=n, initial=n - len(tasks), desc=NAME, unit="slice",
               disable=not progress) as bar:
-        for _, (half, i, values) in executor.map(_task, tasks):
-            np.save(done(half, i).with_suffix(".part.npy"), values)
-            os.replace(done(half, i).with_suffix(".part.npy"), done(half, i))
-            store_if_complete(half, i % _shape(half)[2])
+        for _, ((prefix, half), i, values) in executor.map(_task, tasks):
+            grid = grids[prefix]
+            np.save(done(grid, half, i).with_suffix(".part.npy"), values)
+            os.replace(done(grid, half, i).with_suffix(".part.npy"), done(grid, half, i))
+            store_if_complete(grid, half, i % grid.shape(half)[2])
             bar.update()
     if not any(partial.iterdir()):
         partial.rmdir()
@@ -227,12 +309,12 @@ def decode(stored) -> np.ndarray:
     return np.cumsum(np.cumsum(stored, axis=0), axis=1) / QUANTUM
 
 
-def stored_columns(folder):
-    """``column(half, k)``: the decoded values of the columns stored in ``folder``, each read
-    once (a grid for ``interpolated_slice``)."""
+def stored_columns(folder, grid: SliceGrid = GRID):
+    """``column(half, k)``: the decoded values of ``grid``'s columns stored in ``folder``,
+    each read once (columns for ``interpolated_slice``)."""
     @functools.cache
     def column(half: str, k: int) -> np.ndarray:
-        return read_column(column_file(folder, half, k))
+        return read_column(column_file(folder, half, k, grid))
     return column
 
 
@@ -250,26 +332,25 @@ def _half(eta: float) -> tuple[str, float]:
     return half, float(np.clip(np.log(eta - 1.0 + ETA_OFFSET), axis.lo, axis.hi))
 
 
-def interpolated_slice(column, alpha: float, ratio: float,
-                       eta: float) -> DielectricSlice | None:
+def interpolated_slice(column, alpha: float, ratio: float, eta: float,
+                       grid: SliceGrid = GRID) -> DielectricSlice | None:
     """The slice of (alpha_max ``alpha`` in [0, ``ALPHA_MAX``], ``ratio`` in [0, 1], index
-    ratio ``eta``) from the grid whose columns ``column(half, k)`` gives (``stored_columns``,
-    ``array_columns``): every node's value interpolated across the 4 x 4 x 4 grid points
-    around it (only those four columns read), the parts laid out at the grid's eta (the
-    interface's own, except within ``SQRT2_GAP`` of sqrt 2); None where ``eta`` is outside
-    [``ETA_MIN``, ``ETA_MAX``]."""
+    ratio ``eta``) from ``grid``, whose columns ``column(half, k)`` gives
+    (``stored_columns``, ``array_columns``): every node's value interpolated across the
+    4 x 4 x 4 grid points around it (only those four columns read), the parts laid out at the
+    grid's eta (the interface's own, except within ``SQRT2_GAP`` of sqrt 2); None where
+    ``eta`` is outside [``ETA_MIN``, ``ETA_MAX``] or the stencil outside ``grid``."""
     alpha, ratio, eta = float(alpha), float(ratio), float(eta)
     if not ETA_MIN <= eta <= ETA_MAX:
         return None
-    half, q_eta = _half(eta)
-    coords = (np.log(min(alpha, ALPHA_MAX) + ALPHA_OFFSET),
-              np.log(min(max(ratio, 0.0), 1.0) + RATIO_OFFSET), q_eta)
-    (ia, wa), (ir, wr), (ie, we) = [axis.stencil(np.clip(q, axis.lo, axis.hi))
-                                    for axis, q in zip(HALVES[half], coords, strict=True)]
+    found = grid.stencils(alpha, ratio, eta)
+    if found is None:
+        return None
+    half, ((ia, wa), (ir, wr), (ie, we)), q_eta = found
     block = np.stack([column(half, int(k))[np.ix_(ia, ir)] for k in ie])
     values = np.einsum("e,a,r,earnc->nc", we, wa, wr, block)
     eta_grid = 1.0 + np.exp(q_eta) - ETA_OFFSET
-    parts = filled(layout(alpha, ratio, eta_grid), values)
+    parts = filled(layout(alpha, ratio, eta_grid, refined=grid.refined), values)
     return assembled(alpha, ratio, eta, parts)
 
 
@@ -278,15 +359,15 @@ def _path() -> Path:
     return data_dir() / NAME
 
 
-def shipped() -> bool:
-    """Whether the library ships the whole baked grid (every column in
+def shipped(grid: SliceGrid = GRID) -> bool:
+    """Whether the library ships every column of ``grid`` (in
     ``tables/ggx_dielectric_anisotropic/``)."""
-    return all(column_file(_path(), half, k).exists() for half, k in columns())
+    return all(column_file(_path(), half, k, grid).exists() for half, k in grid.columns())
 
 
-@functools.lru_cache(maxsize=1)
-def _shipped_columns():
-    return stored_columns(_path())
+@functools.lru_cache(maxsize=None)
+def _shipped_columns(grid: SliceGrid = GRID):
+    return stored_columns(_path(), grid)
 
 
 def interpolated(alpha: float, ratio: float, eta: float) -> bool:
@@ -298,11 +379,33 @@ def interpolated(alpha: float, ratio: float, eta: float) -> bool:
             and alpha >= ALPHA_INTERPOLATED)
 
 
-@functools.lru_cache(maxsize=256)
-def grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
-    """``interpolated_slice`` of the shipped grid (each column read from its file when
-    first needed), kept for the 256 interfaces last read; None where the grid is not read
-    (``interpolated``)."""
+def read_slice(columns_of, alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
+    """The slice that the library reads for the interface: ``interpolated_slice`` of the
+    first of ``GRIDS`` whose columns ``columns_of(grid)`` gives (None: not there) and whose
+    stencils hold the interface; None where the grid is not read (``interpolated``)."""
     if not interpolated(alpha, ratio, eta):
         return None
-    return interpolated_slice(_shipped_columns(), alpha, ratio, eta)
+    for grid in GRIDS:
+        column = columns_of(grid)
+        piece = None if column is None else interpolated_slice(column, alpha, ratio, eta, grid)
+        if piece is not None:
+            return piece
+    return None
+
+
+def folder_columns(folder):
+    """``columns_of(grid)`` for ``read_slice``: ``stored_columns`` of the grids whose every
+    column is in ``folder``, None for the others."""
+    folder = Path(folder)
+    found = {grid: stored_columns(folder, grid) for grid in GRIDS
+             if all(column_file(folder, h, k, grid).exists() for h, k in grid.columns())}
+    return found.get
+
+
+@functools.lru_cache(maxsize=256)
+def grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
+    """``read_slice`` of the shipped grids (each column read from its file when first
+    needed), kept for the 256 interfaces last read; None where the grid is not read
+    (``interpolated``)."""
+    return read_slice(lambda grid: _shipped_columns(grid) if shipped(grid) else None,
+                      alpha, ratio, eta)

@@ -525,10 +525,12 @@ class DielectricSlice:
                     a_phi = self.parts[1]._a_phi(c)
                 grazing = 2.0 * blended(mu, a_phi) < blended(hi, a_phi)
                 here &= grazing == (segment == "grazing")
-            for b, name in enumerate(names):
-                k = index.get((segment, lo, name))
-                if k is not None:
-                    which[here & (band == b)] = k
+            # a band the segment lacks (k2 = 1 from mu = 1 / eta up, where "far" ends) is
+            # reached only through rounding at its edge: the nearest band it has holds it
+            present = [b for b, name in enumerate(names) if (segment, lo, name) in index]
+            for b in range(len(names)):
+                nearest = min(present, key=lambda q: (abs(q - b), q))
+                which[here & (band == b)] = index[(segment, lo, names[nearest])]
         return which
 
 
