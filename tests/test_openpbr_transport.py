@@ -290,9 +290,10 @@ def test_a_film_on_a_bare_metal_is_the_fast_models_film():
 # -- emission ---------------------------------------------------------------------------------
 @pytest.mark.parametrize("rho", [0.0, 0.8])
 def test_emission_through_a_smooth_clear_coat_is_the_closed_form(rho):
-    """A Lambertian emitter of basic radiance L_e under a smooth clear coat of index n over a
-    Lambertian base of albedo rho (no base interface): the radiance inside is n^2 L_e / (1 -
-    rho rbar) (the coat sends back rbar of it), so L(wo) = L_e (1 - F(mu_o)) / (1 - rho rbar),
+    """A Lambertian emitter of radiance L_e (its power fixed: the same into the coat as
+    bare) under a smooth clear coat of index n over a Lambertian base of albedo rho (no base
+    interface): the radiance inside is L_e / (1 - rho rbar) (the coat sends back rbar of it),
+    and n^-2 (1 - F(mu_o)) of it leaves: L(wo) = L_e (1 - F(mu_o)) / (n^2 (1 - rho rbar)),
     rbar by scipy quadrature; within 4 sigma and 2e-3 relative."""
     mu = np.array([1.0, 0.6, 0.2])
     params = dict(emission_luminance=2.0, base_color=rho, specular_weight=0.0,
@@ -300,7 +301,8 @@ def test_emission_through_a_smooth_clear_coat_is_the_closed_form(rho):
     bare = OpenPBRSurface(**params).emission(sph(mu))
     ref = OpenPBRSurface(coat_weight=1.0, **params).reference()
     L, se = ref.emission_with_error(sph(mu), n_samples=4000)
-    want = bare * ((1.0 - _dielectric(mu, 1.5)) / (1.0 - rho * internal_average(1.5)))[:, None]
+    want = bare * ((1.0 - _dielectric(mu, 1.5))
+                   / (1.5**2 * (1.0 - rho * internal_average(1.5))))[:, None]
     assert np.all(np.abs(L - want) <= ATOL * want + SIGMAS * se), (L, want, se)
 
 

@@ -306,14 +306,14 @@ class _Builder:
     def coat(self):
         top, tau = self.coat_top()
         n_c = float(self.p["coat_ior"])
-        return _over_emitter(self.layer(top, self.base(n_c), thickness=tau), n_c)
+        return _over_emitter(self.layer(top, self.base(n_c), thickness=tau))
 
     def thin_coat(self):
         """The coated thin wall: the coat's slab on both faces of the sheet, mirrored."""
         top, tau = self.coat_top()
         n_c = float(self.p["coat_ior"])
         under = self.layer(self.sheet(n_c), UpsideDown(top), thickness=tau)
-        return TwoSided(_over_emitter(self.layer(top, under, thickness=tau), n_c))
+        return TwoSided(_over_emitter(self.layer(top, under, thickness=tau)))
 
     def surface(self, thin_walled: bool = False):
         p = self.p
@@ -332,7 +332,7 @@ class _Builder:
                                    phase=fibres)
                 under.emits_from_top = True  # the emitter is in the sheet, above it
             fuzz = _over_emitter(self.layer(matched, under, thickness=1.0, medium_albedo=a,
-                                            phase=fibres), 1.0)
+                                            phase=fibres))
             if thin_walled:
                 fuzz = TwoSided(fuzz)
             coated = _mixed([(coated if F < 1.0 else None, 1.0 - F), (fuzz, F)])
@@ -341,21 +341,21 @@ class _Builder:
                        (coated, alpha)])
 
 
-def _over_emitter(layer, index):
+def _over_emitter(layer):
     """``layer`` marked as lying over the emission [OpenPBR2026, §Emission: under the coat
-    and the fuzz], its slab of refractive ``index`` (``emission_weight``)."""
-    layer.emitter_index = index
+    and the fuzz] (``emission_weight``)."""
+    layer.over_emitter = True
     return layer
 
 
 def emission_weight(lobe, wo) -> np.ndarray:
     """One walk per direction ``wo`` ``(n, 3)``: an unbiased estimate ``(n, 3)`` of the
-    radiance the structure ``lobe`` sends towards ``wo`` per unit basic radiance L / n^2
-    emitted by its base (Lambertian, upwards, into the medium above it of index n: the
-    ambient's 1, or coat_ior under the coat): 1 for a bare base, the coat and fuzz walked
-    (``LayeredReference.emitted``) where they lie over it, light reflected back down by them
-    and up again by the base included; 0 where there is no surface (``PassThrough``) or wo is
-    below a bulk material."""
+    radiance the structure ``lobe`` sends towards ``wo`` per unit radiance that its base
+    emits (Lambertian, upwards, into whatever medium lies above it: the same power under a
+    coat as bare): 1 for a bare base, the coat and fuzz walked (``LayeredReference.emitted``)
+    where they lie over it, light reflected back down by them and up again by the base
+    included; 0 where there is no surface (``PassThrough``) or wo is below a bulk
+    material."""
     if isinstance(lobe, MixedReference):
         return sum(w * emission_weight(part, wo)
                    for w, part in zip(lobe.weights, lobe.parts, strict=True))
@@ -366,9 +366,8 @@ def emission_weight(lobe, wo) -> np.ndarray:
     if isinstance(lobe, LayeredReference):
         if getattr(lobe, "emits_from_top", False):
             return emission_weight(lobe.top, wo)
-        index = getattr(lobe, "emitter_index", None)
-        if index is not None:
-            return lobe.emitted(wo, lambda w: index * index * emission_weight(lobe.base, w))
+        if getattr(lobe, "over_emitter", False):
+            return lobe.emitted(wo, lambda w: emission_weight(lobe.base, w))
     return np.broadcast_to(np.where(wo[:, 2:3] > 0.0, 1.0, 0.0), (len(wo), 3))
 
 
