@@ -81,6 +81,18 @@ def test_white_furnace_at_the_extremes(roughness, anisotropy, ior):
             assert error.max() <= FURNACE, (side, rotation, error)
 
 
+@pytest.mark.parametrize("roughness, anisotropy, ior", [
+    (1.0, 0.3, 1.031), (1.0, 0.6, 1.045), (1.0, 1.0, 1.045), (0.9, 0.5, 1.06),
+    (1.0, 0.9, 1.12)])
+def test_white_furnace_in_the_rough_nearly_matched_corner(roughness, anisotropy, ior):
+    """Very rough, nearly index-matched, seen from the dense side about mu = 1 / eta, where
+    the energy peaks (the refined patch of the grid): within 2e-3."""
+    mu = np.array([0.5, 0.8, 0.9, 1.0 / ior - 0.01, 1.0 / ior, 0.99, 1.0])
+    for phi in (0.0, 0.7, 1.5707963):
+        error = _furnace_error(roughness, anisotropy, ior, 0.0, -1.0, mu, np.full(7, phi))
+        assert error.max() <= FURNACE, (phi, error)
+
+
 def _mc_furnace(material, wo, seed):
     E, sigma = material.albedo(wo, method="mc", n_samples=100_000, rng=seed,
                                return_error=True)
