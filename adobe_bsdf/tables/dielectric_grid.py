@@ -365,7 +365,7 @@ def shipped(grid: SliceGrid = GRID) -> bool:
     return all(column_file(_path(), half, k, grid).exists() for half, k in grid.columns())
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _shipped_columns(grid: SliceGrid = GRID):
     return stored_columns(_path(), grid)
 

@@ -231,18 +231,27 @@ class _Builder:
             lobe = TintedRefraction._new(lobe, np.ones(3), color, fast.spec == "dev_1.2")
         return self.turned(lobe, p["geometry_tangent"]), eta
 
+    def shares(self):
+        """(M, T, S): base_metalness, transmission_weight and subsurface_weight."""
+        return tuple(float(self.p[k]) for k in ("base_metalness", "transmission_weight",
+                                                 "subsurface_weight"))
+
+    def glossy_diffuse(self, interface):
+        """``interface`` over the EON diffuse of the albedo ``diffuse_albedo`` solves."""
+        p = self.p
+        rho = diffuse_albedo(interface, float(p["base_weight"]) * p["base_color"],
+                             seed=self.seed)
+        return self.layer(interface,
+                          EnergyPreservingOrenNayar(rho, float(p["base_diffuse_roughness"])))
+
     def base(self, n_above):
         p, fast = self.p, self.fasts[n_above]
-        M, T, S = (float(p[k]) for k in ("base_metalness", "transmission_weight",
-                                          "subsurface_weight"))
+        M, T, S = self.shares()
         parts = []
         if M < 1.0:
             interface, eta = self.dielectric_interface(n_above)
             if (1.0 - T) * (1.0 - S) > 0.0:
-                rho = diffuse_albedo(interface, float(p["base_weight"]) * p["base_color"],
-                                     seed=self.seed)
-                diffuse = EnergyPreservingOrenNayar(rho, float(p["base_diffuse_roughness"]))
-                parts.append((self.layer(interface, diffuse), (1 - M) * (1 - T) * (1 - S)))
+                parts.append((self.glossy_diffuse(interface), (1 - M) * (1 - T) * (1 - S)))
             if (1.0 - T) * S > 0.0:
                 m = media.openpbr_subsurface_medium(
                     p["subsurface_radius"], p["subsurface_radius_scale"],
@@ -268,17 +277,13 @@ class _Builder:
         S (1 - g) / 2 and transmitting S (1 + g) / 2 of what reaches it, each as a unit-albedo
         EON diffuse (the fast model's ``_thin_subsurface``)."""
         p, fast = self.p, self.fasts[n_above]
-        M, T, S = (float(p[k]) for k in ("base_metalness", "transmission_weight",
-                                          "subsurface_weight"))
+        M, T, S = self.shares()
         parts = []
         if M < 1.0:
             interface, _ = self.dielectric_interface(n_above)
             lower = UpsideDown(interface)
             if (1.0 - T) * (1.0 - S) > 0.0:
-                rho = diffuse_albedo(interface, float(p["base_weight"]) * p["base_color"],
-                                     seed=self.seed)
-                diffuse = EnergyPreservingOrenNayar(rho, float(p["base_diffuse_roughness"]))
-                parts.append((TwoSided(self.layer(interface, diffuse)),
+                parts.append((TwoSided(self.glossy_diffuse(interface)),
                               (1 - M) * (1 - T) * (1 - S)))
             if (1.0 - T) * S > 0.0:
                 scatterers = TwoSided(fast._thin_subsurface(float(p["base_diffuse_roughness"])))
