@@ -159,11 +159,16 @@ def test_an_unbounded_thin_subsurface_sheet_splits_by_its_anisotropy():
         assert np.all(np.abs(T - S * (1 + g) / 2) <= ATOL + SIGMAS * se_t), (T, se_t)
 
 
+#: white thin walls with smooth interfaces: every walk's weight is exactly 1 (delta samples
+#: of unit-albedo lobes), so the furnace is exact, not statistical, and a lost walk shows.
+#: Rough interfaces weigh their samples by f cos / pdf, with tails that a long walk
+#: compounds (a thin wall's light bounces between its faces): their furnace needs far more
+#: walks than a test can afford, and the bulk structures' (above) cover them.
 THIN_WHITE = [
-    dict(subsurface_weight=1.0, subsurface_color=1.0, coat_weight=1.0, coat_roughness=0.3,
-         fuzz_weight=1.0, fuzz_roughness=0.5, specular_roughness=0.4),
-    dict(transmission_weight=1.0, coat_weight=0.5, coat_roughness=0.2, fuzz_weight=0.5,
-         specular_roughness=0.3, base_metalness=0.3),
+    dict(subsurface_weight=1.0, subsurface_color=1.0, coat_weight=1.0, coat_roughness=0.0,
+         fuzz_weight=1.0, fuzz_roughness=0.5, specular_roughness=0.0),
+    dict(transmission_weight=1.0, coat_weight=0.5, coat_roughness=0.0, fuzz_weight=0.5,
+         specular_roughness=0.0, base_metalness=0.3),
 ]
 
 
@@ -172,8 +177,8 @@ def test_white_thin_walls_keep_the_energy_from_both_faces(params):
     """A white thin wall (white sheet, clear coat and white fuzz on both faces) reflects and
     transmits all it receives, seen from above or below: |E - 1| <= 2e-3 + 4 sigma."""
     m = OpenPBRSurface(geometry_thin_walled=True, base_color=1.0, **params)
-    wo = sph(np.array([0.8, -0.3]), 0.7)
-    E, se = m.reference().albedo(wo, method="mc", n_samples=12_000, return_error=True)
+    wo = sph(np.array([0.8, 0.3, -0.8, -0.3]), 0.7)
+    E, se = m.reference().albedo(wo, method="mc", n_samples=4_000, return_error=True)
     assert np.all(np.abs(E - 1.0) <= ATOL + SIGMAS * se), (E, se)
 
 
