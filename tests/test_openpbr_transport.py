@@ -365,7 +365,7 @@ def test_a_long_call_shows_one_progress_bar(monkeypatch, capsys):
     with config.options(chunk_size=64):
         ref.albedo(sph(np.array([0.9, 0.5]), 0.0), method="mc", n_samples=200)
         err = capsys.readouterr().err
-        assert "MixedReference.albedo" in err and "LayeredReference.eval" not in err
+        assert "OpenPBRReference.albedo" in err and "LayeredReference.eval" not in err
         ref.eval(*(sph(np.full(40, 0.5), np.arange(40.0)) for _ in range(2)))
         err = capsys.readouterr().err
         assert "LayeredReference.eval" in err and "albedo" not in err
