@@ -40,6 +40,7 @@ import numpy as np
 
 from adobe_bsdf import _params, config
 from adobe_bsdf.bsdf import BSDFSample, Flags, Lobe, finished_sample
+from adobe_bsdf.composition import _mirrored
 from adobe_bsdf.lobes.dielectric import interface_energy_scale
 from adobe_bsdf.phase import HenyeyGreenstein, henyey_greenstein, sample_henyey_greenstein
 
@@ -47,8 +48,6 @@ __all__ = ["LayeredReference", "MixedReference", "UpsideDown", "TwoSided", "heny
            "sample_henyey_greenstein"]
 
 _DELTA, _T = int(Flags.DELTA), int(Flags.TRANSMISSION)
-#: the mirror of the surface plane, M = diag(1, 1, -1)
-_M = np.array([1.0, 1.0, -1.0])
 #: the largest density a walk's product of densities reports (near-delta paths saturate)
 _PDF_MAX = float(np.finfo(np.float64).max)
 #: the share of ``pdf`` that is uniform over the sphere [Pharr2023, §14.3.2]
@@ -358,7 +357,7 @@ class LayeredReference(_RandomWalks):
         err = np.zeros((len(wo), 3))
         below = np.flatnonzero(wo[:, 2] < 0.0)
         if len(below):
-            f[below], err[below] = self.twin._eval_error(wo[below] * _M, wi[below] * _M)
+            f[below], err[below] = self.twin._eval_error(_mirrored(wo[below]), _mirrored(wi[below]))
         blocks = list(self._exit_blocks(wo, wi))
         for exits_top, index in config.progress(blocks, len(blocks), "LayeredReference.eval"):
             f[index], err[index] = self._walk_eval(wo[index], wi[index], exits_top, rng)
@@ -515,7 +514,7 @@ class LayeredReference(_RandomWalks):
             pdf[index] = _UNIFORM_SHARE / (4.0 * np.pi) + (1.0 - _UNIFORM_SHARE) * estimate
         below = np.flatnonzero(wo[:, 2] < 0.0)
         if len(below):
-            pdf[below] = self.twin._pdf(wo[below] * _M, wi[below] * _M)
+            pdf[below] = self.twin._pdf(_mirrored(wo[below]), _mirrored(wi[below]))
         return pdf.reshape(batch)
 
     def _eval_pdf(self, wo, wi):
@@ -592,10 +591,10 @@ class LayeredReference(_RandomWalks):
         below = np.flatnonzero(wo[:, 2] < 0.0)
         if len(below):
             out = self._walk_sample_above(wo, u)
-            twin = self.twin._walk_sample_above(wo[below] * _M, u[below])
+            twin = self.twin._walk_sample_above(_mirrored(wo[below]), u[below])
             for a, b in zip(out, twin, strict=True):
                 a[below] = b
-            out[0][below] *= _M
+            out[0][below] = _mirrored(out[0][below])
             return out
         return self._walk_sample_above(wo, u)
 
@@ -696,7 +695,7 @@ class LayeredReference(_RandomWalks):
         E = np.zeros((len(flat), 3))
         below = flat[:, 2] < 0.0
         if np.any(below):  # entering through the base
-            E[below] = self.twin._delta_albedo(flat[below] * _M)
+            E[below] = self.twin._delta_albedo(_mirrored(flat[below]))
         above = np.flatnonzero(~below) if self.flags & Flags.DELTA else np.zeros(0, int)
         for a, b in self._blocks(len(above)):
             w = np.repeat(flat[above[a:b]], self.n_samples, axis=0)
@@ -813,11 +812,6 @@ class MixedReference(_RandomWalks):
         return BSDFSample(*(a.reshape(batch + a.shape[1:]) for a in s))
 
 
-def _reflected(w, where):
-    """``w`` mirrored through the surface plane (z -> -z) where ``where`` ``(...)``."""
-    return np.where(where[..., None], w * np.array([1.0, 1.0, -1.0]), w)
-
-
 class _Mirror(_RandomWalks):
     """``lobe`` seen through the mirror M = diag(1, 1, -1) of its surface plane where
     ``_turned(wo)`` says: f(wo, wi) = lobe.f(M wo, M wi) there, samples mirrored back. M keeps
@@ -841,7 +835,11 @@ class _Mirror(_RandomWalks):
 
     def _both(self, wo, wi):
         t = self._turned(wo)
-        return _reflected(wo, t), _reflected(wi, t)
+        return _mirrored(wo, t), _mirrored(wi, t)
+
+    def facing(self, wo):
+        """``wo`` as the lobe sees it (mirrored where ``_turned``)."""
+        return _mirrored(wo, self._turned(wo))
 
     def _eval(self, wo, wi):
         return self.lobe._eval(*self._both(wo, wi))
@@ -870,16 +868,16 @@ class _Mirror(_RandomWalks):
 
     def _back(self, s: BSDFSample, wo) -> BSDFSample:
         t = np.broadcast_to(self._turned(wo), s.pdf.shape)
-        return BSDFSample(_reflected(s.wi, t), s.weight, s.pdf, s.flags)
+        return BSDFSample(_mirrored(s.wi, t), s.weight, s.pdf, s.flags)
 
     def _sample(self, wo, u):
-        return self._back(self.lobe._sample(_reflected(wo, self._turned(wo)), u), wo)
+        return self._back(self.lobe._sample(self.facing(wo), u), wo)
 
     def _draw(self, wo, u) -> BSDFSample:
-        return self._back(_draw(self.lobe, _reflected(wo, self._turned(wo)), u), wo)
+        return self._back(_draw(self.lobe, self.facing(wo), u), wo)
 
     def _delta_albedo(self, wo):
-        return self.lobe._delta_albedo(_reflected(wo, self._turned(wo)))
+        return self.lobe._delta_albedo(self.facing(wo))
 
 
 class UpsideDown(_Mirror):

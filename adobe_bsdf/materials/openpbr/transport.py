@@ -367,7 +367,7 @@ def emission_weight(lobe, wo) -> np.ndarray:
     if isinstance(lobe, PassThrough):
         return np.zeros((len(wo), 3))
     if isinstance(lobe, TwoSided):
-        return emission_weight(lobe.lobe, np.where(wo[:, 2:3] < 0.0, wo * [1.0, 1.0, -1.0], wo))
+        return emission_weight(lobe.lobe, lobe.facing(wo))
     if isinstance(lobe, LayeredReference):
         if getattr(lobe, "emits_from_top", False):
             return emission_weight(lobe.top, wo)
