@@ -200,10 +200,6 @@ def _task(task):
     return key, index, point_values(point, True) if refined else slice_values(point)
 
 
-def _shape(half: str) -> tuple[int, int, int]:
-    return GRID.shape(half)
-
-
 def column_file(folder, half: str, k: int, grid: SliceGrid = GRID) -> Path:
     """``<folder>/<prefix><half>_<k>.npz``: the stored slices of ``grid``'s column (``half``,
     ``k``), its k-th index ratio."""
