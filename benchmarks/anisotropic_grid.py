@@ -31,6 +31,7 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -46,14 +47,19 @@ DIRECTIONS = 4000
 #: (alpha, ratio, eta) always measured
 EXTREMES = [(2.0, 0.0, 3.0), (2.0, 1.0, 1.011), (0.005, 0.0, 1.011), (1.2, 0.02, 1.4142),
             (1.2, 0.02, 1.4143), (0.6, 0.0, 1.9), (0.02, 0.5, 2.99),
-            # nearly smooth: below the grid's third roughness node
-            (0.005, 0.037, 3.0), (0.003, 0.05, 2.0), (0.01, 0.3, 3.0),
+            # nearly smooth: below the grid's third roughness node, read across its first
+            # (the limit alpha -> 0+)
+            (0.005, 0.037, 3.0), (0.003, 0.05, 2.0), (0.01, 0.3, 3.0), (0.0004, 0.5, 1.5),
+            (0.001, 0.8, 1.2), (0.0005, 0.1, 1.05), (0.012, 0.06, 1.04),
             # the corners of what the library reads from the grid
             (2.0, 0.037, 1.031), (0.0157, 0.037, 3.0), (0.0157, 1.0, 1.031), (2.0, 1.0, 1.031),
             # nearly index-matched and very rough, seen from the dense side near mu = 1 / eta
             (2.0, 0.99, 1.045), (2.0, 0.5, 1.045), (1.0, 0.9, 1.06), (2.0, 0.99, 1.12),
             # the refined patch's edges
-            (0.62, 0.5, 1.2), (0.7, 0.04, 1.035), (1.3, 0.25, 1.09), (0.6, 0.9, 1.06)]
+            (0.62, 0.5, 1.2), (0.7, 0.04, 1.035), (1.3, 0.25, 1.09), (0.6, 0.9, 1.06),
+            # nearly index-matched: the patch on the critical cosine's axis
+            (1.0, 0.5, 1.02), (0.05, 0.3, 1.015), (0.3, 0.04, 1.02), (0.004, 0.5, 1.02),
+            (2.0, 0.99, 1.025)]
 PAIRS, ROUNDS = 20000, 7
 
 
@@ -74,7 +80,10 @@ def compare(columns_of, interface, seed: int = SEED) -> dict:
     from the grids ``columns_of`` gives (``dielectric_grid.read_slice``), or where it reads
     none, of the whole grid's."""
     exact = dielectric_slice(*interface)
-    coarse = dielectric_grid.interpolated_slice(columns_of(dielectric_grid.GRID), *interface)
+    # the whole grid at every index ratio on it, below those it is read at too
+    whole = replace(dielectric_grid.GRID, etas=(dielectric_grid.ETA_MIN, np.inf))
+    coarse = dielectric_grid.interpolated_slice(columns_of(dielectric_grid.GRID), *interface,
+                                                grid=whole)
     piece = dielectric_grid.read_slice(columns_of, *interface) or coarse
     rng = np.random.default_rng(seed)
     out = {}
@@ -135,17 +144,62 @@ import time, numpy as np
 import adobe_bsdf
 from adobe_bsdf.lobes import DielectricMS
 start = time.perf_counter()
-lobe = DielectricMS(1.5, 0.3, 0.06)
+lobe = DielectricMS({eta}, {alpha_x}, {alpha_y})
 lobe.eval(np.array([0.0, 0.6, 0.8]), np.array([0.0, -0.6, 0.8]))
 print(time.perf_counter() - start)
 """
+#: the lobes (eta, alpha_x, alpha_y) whose first use is timed: an ordinary one, a nearly
+#: smooth one (read from the grid across its first roughness node), a nearly index-matched
+#: one (``MATCHED``) and a nearly one-dimensional one (roughness ratio below
+#: ``RATIO_INTERPOLATED``: its slice computed)
+FIRST_USES = {"ordinary": (1.5, 0.3, 0.06), "nearly smooth": (1.5, 0.01, 0.006),
+              "nearly index-matched": (1.02, 0.3, 0.15),
+              "nearly one-dimensional": (1.5, 0.3, 0.006)}
 
 
-def first_use() -> float:
+def first_use(eta: float = 1.5, alpha_x: float = 0.3, alpha_y: float = 0.06) -> float:
     """Seconds from a fresh process's first anisotropic lobe to its first ``eval``."""
-    run = subprocess.run([sys.executable, "-c", _FIRST_USE], capture_output=True, text=True,
+    script = _FIRST_USE.format(eta=eta, alpha_x=alpha_x, alpha_y=alpha_y)
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                          check=True)
     return float(run.stdout.split()[-1])
+
+
+#: (ratio, eta) at which ``limit_rows`` measures the first roughness node
+LIMIT_CHECKS = ((0.5, 1.5), (0.2, 1.031), (1.0, 3.0))
+
+
+def limit_rows(checks=LIMIT_CHECKS) -> list:
+    """``[((ratio, eta), at alpha 0, beyond)]``: the largest difference over the grid layout's
+    nodes of E_R + E_T at ``dielectric_grid.ALPHA_LIMIT`` from that at alpha = 0 itself
+    (``ALPHA_FLOOR`` in the coordinates) and from that at a tenth of ``ALPHA_LIMIT``."""
+    from adobe_bsdf.tables.dielectric_slices import layout, node_directions, node_energy
+
+    def total(alpha, ratio, eta):
+        return node_energy(alpha, ratio, eta,
+                           *node_directions(layout(alpha, ratio, eta))).sum(-1)
+    rows = []
+    for ratio, eta in checks:
+        at = total(dielectric_grid.ALPHA_LIMIT, ratio, eta)
+        rows.append(((ratio, eta), float(np.abs(total(0.0, ratio, eta) - at).max()),
+                     float(np.abs(total(dielectric_grid.ALPHA_LIMIT / 10, ratio, eta)
+                                  - at).max())))
+    return rows
+
+
+def _limit_lines(rows) -> list[str]:
+    if not rows:
+        return []
+    out = ["", "## The nearly smooth limit", "",
+           "The grid's first roughness node holds the slices at alpha_max = "
+           f"{dielectric_grid.ALPHA_LIMIT:g} (`dielectric_grid.ALPHA_LIMIT`), the limit "
+           "alpha -> 0+ of every node's value. At alpha = 0 itself the slice's coordinates "
+           "floor the projected roughness, so its nodes sit at other cos θ / alpha_phi than "
+           "at any alpha > 0. Largest difference of E_R + E_T over the grid layout's nodes:", "",
+           "| (ratio, eta) | at alpha 0 itself | at a tenth of ALPHA_LIMIT |", "|---|---|---|"]
+    for (r, e), at_zero, beyond in rows:
+        out.append(f"| ({r:g}, {e:g}) | {at_zero:.1e} | {beyond:.1e} |")
+    return out
 
 
 #: interfaces (alpha, ratio, eta) whose computed slices are measured against the node
@@ -276,34 +330,43 @@ WORKERS = (1, 2, 8, 32, 128)
 
 
 def bake_cost(n: int = BAKE_POINTS, seed: int = SEED) -> dict:
-    """Seconds to compute one grid slice (``dielectric_grid.slice_values``, one thread) at
-    ``n`` grid points drawn at random, and the grid's size in slices and in columns."""
+    """Seconds to compute one slice (``dielectric_grid.point_values``, one thread) at ``n``
+    grid points drawn at random and at ``n`` points of the refined patches (their layout),
+    and the size of each in slices and in columns."""
     import adobe_bsdf as ab
 
-    points = np.concatenate([dielectric_grid.grid_points(h) for h in dielectric_grid.HALVES])
-    chosen = np.random.default_rng(seed).choice(len(points), n, replace=False)
-    seconds = []
+    rng = np.random.default_rng(seed)
+    kinds = {"grid": [g for g in dielectric_grid.GRIDS if not g.refined],
+             "patches": [g for g in dielectric_grid.GRIDS if g.refined]}
+    out = {}
     with ab.config.options(threads=1):
-        for point in points[chosen]:
-            start = time.perf_counter()
-            dielectric_grid.slice_values(point)
-            seconds.append(time.perf_counter() - start)
-    return {"seconds": seconds, "slices": len(points),
-            "columns": len(dielectric_grid.columns())}
+        for kind, grids in kinds.items():
+            points = np.concatenate([g.points(h) for g in grids for h in g.spans])
+            seconds = []
+            for point in points[rng.choice(len(points), n, replace=False)]:
+                start = time.perf_counter()
+                dielectric_grid.point_values(point, refined=kind == "patches")
+                seconds.append(time.perf_counter() - start)
+            out[kind] = {"seconds": seconds, "slices": len(points),
+                         "columns": sum(len(g.columns()) for g in grids)}
+    return out
 
 
 def _bake_lines(cost: dict) -> list[str]:
-    mean = float(np.mean(cost["seconds"]))
-    core_hours = mean * cost["slices"] / 3600.0
+    mean = {k: float(np.mean(c["seconds"])) for k, c in cost.items()}
+    core_hours = sum(mean[k] * c["slices"] for k, c in cost.items()) / 3600.0
+    grid, patches = cost["grid"], cost["patches"]
     out = ["", "## The bake", "",
-           f"One slice takes {mean:.1f} s on one core here (mean of {len(cost['seconds'])} "
-           f"random grid points, {min(cost['seconds']):.1f}–{max(cost['seconds']):.1f} s); "
-           f"the grid's {cost['slices']} slices take {core_hours:.1f} core-hours. Slices are "
+           f"One slice takes {mean['grid']:.1f} s on one core here (mean of "
+           f"{len(grid['seconds'])} random grid points, {min(grid['seconds']):.1f}–"
+           f"{max(grid['seconds']):.1f} s), one of the refined patches {mean['patches']:.1f} s"
+           f" (mean of {len(patches['seconds'])}); the grid's {grid['slices']} slices and the "
+           f"patches' {patches['slices']} take {core_hours:.1f} core-hours. Slices are "
            "independent tasks, so the bake (`python -m adobe_bsdf bake "
            "ggx_dielectric_anisotropic --workers N`, or `--dask-workers N` / `--scheduler "
            "ADDRESS` on a Dask cluster) scales with the workers until each has one slice; "
-           f"the grid is written as {cost['columns']} columns, each as soon as its slices "
-           "are done.", "", "| workers | estimated wall-clock |", "|---|---|"]
+           f"it writes {grid['columns'] + patches['columns']} columns, each as soon as its "
+           "slices are done.", "", "| workers | estimated wall-clock |", "|---|---|"]
     for n in WORKERS:
         hours = core_hours / n
         out.append(f"| {n} | {hours:.2f} h |" if hours >= 1.0 else
@@ -326,7 +389,8 @@ def measure(smoke: bool = False, path: Path | None = None) -> dict:
     result["beyond"] = [] if smoke else measure_beyond_tables()
     if not smoke:
         result["costs"] = costs()
-        result["first_use"] = first_use()
+        result["first_use"] = {name: first_use(*lobe) for name, lobe in FIRST_USES.items()}
+        result["limit"] = limit_rows()
     return result
 
 
@@ -340,13 +404,20 @@ def _source(interface) -> str:
     """Where the library's slice of this interface comes from."""
     if not _read(interface):
         return "no: computed"
+    if not dielectric_grid.interpolated(*interface, "reflection"):
+        return "E_R + E_T (E_R computed)"
+    if dielectric_grid.MATCHED.stencils(*interface):
+        return "nearly matched patch"
     return "refined patch" if dielectric_grid.PATCH.stencils(*interface) else "yes"
 
 
-def _split(rows):
-    """``(read, computed)``: the rows whose slice the library reads from the grid, and the
-    others."""
-    return ([r for c, r in rows if _read(c)], [r for c, r in rows if not _read(c)])
+def _split(rows, key: str = "light"):
+    """``(read, computed)``: the rows whose slice the library reads from the grid for
+    ``key``'s channel (E_R where the key names it), and the others."""
+    channel = "reflection" if "E_R" in key else "total"
+    read = [dielectric_grid.interpolated(*c, channel) for c, _ in rows]
+    return ([r for (_, r), y in zip(rows, read, strict=True) if y],
+            [r for (_, r), y in zip(rows, read, strict=True) if not y])
 
 
 def _computed_line(rows) -> list[str]:
@@ -357,9 +428,8 @@ def _computed_line(rows) -> list[str]:
     worst = max(_stats([r[side] for r in computed])[0] for side in ("light", "dense"))
     return ["", f"At the {len(computed)} interfaces measured where the library computes the "
             "slice instead of reading the grid (index ratio below "
-            f"{dielectric_grid.ETA_INTERPOLATED:.4g}, roughness ratio below "
-            f"{dielectric_grid.RATIO_INTERPOLATED:.3g} or roughness below "
-            f"{dielectric_grid.ALPHA_INTERPOLATED:.3g}: `dielectric_grid.interpolated`), the "
+            f"{dielectric_grid.ETA_MIN:.4g} or roughness ratio below "
+            f"{dielectric_grid.RATIO_INTERPOLATED:.3g}: `dielectric_grid.interpolated`), the "
             f"grid would miss E_R + E_T by up to {worst:.1e}; there the default's slice is "
             "the exact mode's."]
 
@@ -372,6 +442,11 @@ def _patch_alpha() -> float:
 def _patch_eta() -> float:
     """The largest index ratio read from the refined patch (its last but one)."""
     return float(np.unique(dielectric_grid.PATCH.points("below")[:, 2])[-2])
+
+
+def _first_uses(seconds: dict) -> str:
+    return "; ".join(f"{name} `DielectricMS{FIRST_USES[name]}` {t:.2f} s"
+                     for name, t in seconds.items())
 
 
 def _stats(values) -> tuple[float, float]:
@@ -389,10 +464,9 @@ def markdown(result: dict, seconds: float) -> str:
            "the grid. Machine: "
            f"{machine.cpu_model()}, {machine.cores()} cores.", "",
            "| quantity | max | RMS |", "|---|---|---|"]
-    read, _ = _split(rows)
     for key in ("light", "dense", "light E_R", "dense E_R", "light average",
                 "dense average"):
-        worst, rms = _stats([r[key] for r in read])
+        worst, rms = _stats([r[key] for r in _split(rows, key)[0]])
         out.append(f"| {key} (E_R + E_T unless named) | {worst:.1e} | {rms:.1e} |")
     out += _computed_line(rows)
     out += ["", "| interface (alpha, ratio, eta) | read from the grid | light | dense | "
@@ -405,7 +479,14 @@ def markdown(result: dict, seconds: float) -> str:
                                           "dense grid alone")) + " |")
     out += ["", "The refined patch (`dielectric_grid.PATCH`: alpha_max >= "
             f"{_patch_alpha():.3g}, index ratios {dielectric_grid.ETA_INTERPOLATED:.4g} to "
-            f"{_patch_eta():.3g}) is read where the table says so; elsewhere the grid.", "",
+            f"{_patch_eta():.3g}) and the nearly index-matched one (`dielectric_grid.MATCHED`:"
+            f" index ratios {dielectric_grid.ETA_MIN:.4g} to "
+            f"{dielectric_grid.ETA_INTERPOLATED:.4g}, on an axis uniform in the critical "
+            "cosine) are read where the table says so; elsewhere the grid. Below "
+            f"alpha_max {dielectric_grid.ALPHA_REFLECTION:.3g} "
+            "(`dielectric_grid.ALPHA_REFLECTION`) the library reads only E_R + E_T from the "
+            "grid and computes the slice for E_R alone (the E_R rows of the first table leave "
+            "those interfaces out).", "",
             f"The grid's files ({result['path']}/, one per index ratio, the patch's too): "
             f"{result['bytes'] / 2**20:.2f} MB."]
     if "costs" in result:
@@ -414,7 +495,8 @@ def markdown(result: dict, seconds: float) -> str:
         for name, e, s in result["costs"]:
             out.append(f"| {name} | {e:.2f} | {s:.2f} |")
         out += ["", "First use in a fresh process (the columns it needs loaded, the lobe "
-                f"built and evaluated): {result['first_use']:.2f} s."]
+                "built and evaluated): " + _first_uses(result["first_use"]) + "."]
+    out += _limit_lines(result.get("limit", []))
     out += _slice_lines(result["slices"])
     out += markdown_beyond_tables(result["beyond"])
     out += _bake_lines(result["bake"])
@@ -450,7 +532,8 @@ def summary(result: dict) -> str:
         out[-1] += (" Cost against the isotropic counterparts, `eval` / `sample`: "
                     + "; ".join(f"{name} {e:.2f}× / {s:.2f}×"
                                 for name, e, s in result["costs"])
-                    + f". First use in a fresh process: {result['first_use']:.2f} s.")
+                    + ". First use in a fresh process: " + _first_uses(result["first_use"])
+                    + ".")
     return "\n".join(out) + "\n"
 
 

@@ -46,8 +46,9 @@ def _furnace_error(roughness, anisotropy, ior, rotation, side, mu, phi):
 
 
 def test_the_default_reads_the_shipped_grid():
-    """The library ships every column of the grid, and a default anisotropic lobe reads it."""
-    assert dielectric_grid.shipped()
+    """The library ships every column of the grid and of its patches, and a default
+    anisotropic lobe reads it."""
+    assert all(dielectric_grid.shipped(grid) for grid in dielectric_grid.GRIDS)
     assert lobes.DielectricMS(1.5, 0.3, 0.05).components[0].slices == "grid"
 
 
@@ -66,7 +67,12 @@ def test_white_furnace_on_a_drawn_grid(roughness, anisotropy, ior, rotation, sid
 
 #: (roughness, anisotropy, ior): the acceptance's extremes
 EXTREMES = [(0.0, 1.0, 1.5), (0.02, 1.0, 1.5), (1.0, 1.0, 1.5), (0.3, 1.0, 1.01),
-            (0.3, 1.0, 3.0), (1.0, 0.3, 1.01), (0.02, 0.6, 3.0), (1.0, 1.0, 3.0)]
+            (0.3, 1.0, 3.0), (1.0, 0.3, 1.01), (0.02, 0.6, 3.0), (1.0, 1.0, 3.0),
+            # nearly smooth (alpha_max 0.002 and 0.0041): read across the grid's first
+            # roughness node
+            (0.02, 0.2, 3.0), (0.05, 0.2, 1.5),
+            # nearly index-matched: the patch on the critical cosine's axis
+            (1.0, 0.5, 1.02), (0.3, 0.8, 1.015), (0.1, 0.5, 1.025)]
 
 
 @pytest.mark.parametrize("roughness, anisotropy, ior", EXTREMES)
@@ -113,7 +119,9 @@ def test_white_dielectric_ms_monte_carlo(roughness, anisotropy, ior):
 #: (roughness, anisotropy, ior, anisotropy_angle) of the white ASM dielectrics: the cases of
 #: the report that found the loss, and the extremes
 ASM_CASES = [(0.7, 1.0, 1.45, 0.0), (0.1, 0.9, 1.45, 0.0), (0.35, 0.6, 1.45, 0.2),
-             (0.02, 1.0, 3.0, 0.0), (1.0, 1.0, 1.01, 0.7)]
+             (0.02, 1.0, 3.0, 0.0), (1.0, 1.0, 1.01, 0.7),
+             # nearly smooth: E_R + E_T read from the grid, E_R computed (read, it lost 5e-2)
+             (0.02, 0.2, 1.5, 0.0), (0.05, 0.2, 1.5, 0.3)]
 
 
 @pytest.mark.parametrize("roughness, anisotropy, ior, angle", ASM_CASES)

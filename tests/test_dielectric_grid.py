@@ -27,15 +27,50 @@ def test_the_grid_spans_its_ranges_at_its_step():
     assert above[:, 2].min() / root2 - 1.0 == pytest.approx(grid.SQRT2_GAP, rel=1e-6)
 
 
-def test_a_grid_point_holds_its_slice():
+@pytest.mark.parametrize("index", [100, 40])
+def test_a_grid_point_holds_its_slice(index):
     """``slice_values`` is the node values of ``dielectric_slice`` in the grid's layout (not
-    refined), part after part (float32)."""
-    point = tuple(grid.grid_points("above")[40])
+    refined), part after part (float32); at alpha = 0 (point 40) those at ``ALPHA_LIMIT``."""
+    point = tuple(grid.grid_points("above")[index])
+    assert (point[0] == 0.0) == (index == 40)
     values = grid.slice_values(point)
-    piece = dielectric_slice(*point, refined=False)
+    piece = dielectric_slice(max(point[0], grid.ALPHA_LIMIT), *point[1:], refined=False)
     want = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
     assert values.dtype == np.float32 and values.shape == want.shape
     np.testing.assert_allclose(values, want, rtol=0, atol=1e-7)
+
+
+def test_the_first_roughness_node_stays_above_the_floor():
+    """At ``ALPHA_LIMIT`` the projected roughness of every roughness ratio that the grid's
+    read stencils reach (from its second node up) stays above ``ALPHA_FLOOR``, so the first
+    node's slices sit at the same cos theta / alpha_phi as those of any alpha > 0."""
+    from adobe_bsdf.tables.anisotropic_energy import ALPHA_FLOOR, projected_alpha
+
+    ratios = np.unique(grid.grid_points("below")[:, 1])
+    assert ratios[2] == pytest.approx(grid.RATIO_INTERPOLATED)
+    c = np.linspace(0.0, 1.0, 101)
+    assert np.all(projected_alpha(c, grid.ALPHA_LIMIT, ratios[1]) > ALPHA_FLOOR)
+
+
+@pytest.mark.parametrize("interface", [(0.003, 0.5, 1.5), (0.0004, 0.2, 2.5)])
+def test_a_nearly_smooth_interface_reads_the_grid(interface):
+    """Below the grid's third roughness node (alpha 0.0156) the default reads the grid, whose
+    first node holds the limit alpha -> 0+: E_R + E_T within 2e-3 of the node integrator
+    (order 12) from both sides, grazing to normal, along and across the rough axis (with the
+    first node at alpha = 0 itself, the grid missed by 1.6e-2 to 1.8e-2 here)."""
+    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
+
+    alpha, ratio, eta = interface
+    assert grid.interpolated(*interface)
+    piece = grid.grid_slice(*interface)
+    mu, c = (a.ravel() for a in np.meshgrid([1e-3, 2e-3, 5e-3, 0.01, 0.03, 0.2, 0.8],
+                                            [0.0, 0.3, 0.7, 1.0], indexing="ij"))
+    for on_light in (True, False):
+        e = ggx_anisotropic_dielectric_energy(mu, np.arccos(c), alpha, ratio * alpha,
+                                              eta if on_light else 1.0 / eta, 12,
+                                              estimate=False)
+        got = piece(on_light, mu, c).sum(-1)
+        np.testing.assert_allclose(got, e.reflection + e.transmission, rtol=0, atol=2e-3)
 
 
 def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
@@ -129,7 +164,7 @@ def _quadratic_grid(n_nodes: int, seed: int = 3):
 
 
 @pytest.mark.parametrize("interface", [(0.37, 0.21, 1.23), (1.9, 0.003, 2.9),
-                                       (0.0, 1.0, 1.01), (0.004, 0.6, 1.6)])
+                                       (0.0, 1.0, 1.0304), (0.004, 0.6, 1.6)])
 def test_interpolated_slice_between_grid_points(interface):
     """Off the grid points, every node's value is the interpolant's: a quadratic in the
     grid's coordinates comes back to rounding, laid out at the interface's own parts."""
@@ -159,6 +194,46 @@ def test_the_refined_patch_interpolates_in_its_own_layout(interface):
     np.testing.assert_allclose(got, exact(*interface), rtol=0, atol=1e-9)
     assert piece.n_nodes == n_nodes > grid.interpolated_slice(
         grid.array_columns(values), *interface).n_nodes
+
+
+@pytest.mark.parametrize("interface", [(0.37, 0.21, 1.0101), (1.9, 0.04, 1.025),
+                                       (0.0, 1.0, 1.01), (0.004, 0.6, 1.03)])
+def test_the_matched_patch_interpolates_on_the_critical_cosine(interface):
+    """Between index ratios 1.01 and ``ETA_INTERPOLATED`` ``MATCHED`` interpolates on its
+    own axis, uniform in the critical cosine: a quadratic in (q_alpha, q_ratio, mu_c) over
+    its points comes back to rounding, laid out refined at the interface's own index."""
+    patch = grid.MATCHED
+    assert patch.stencils(*interface) is not None
+    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1]))
+                  for p in _layout(interface, refined=True))
+    coefficients = np.random.default_rng(5).normal(size=(7, n_nodes, 2))
+
+    def basis(qa, qr, mc):
+        return np.stack([np.ones_like(qa), qa, qr, mc, qa * qa, qr * mc, mc * mc], -1)
+    q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
+                      in zip(patch.axes("below"), patch.spans["below"], strict=True)],
+                    indexing="ij")
+    values = {"below": np.einsum("abcj,jnk->abcnk", basis(*q), coefficients)}
+    piece = grid.interpolated_slice(grid.array_columns(values), *interface, grid=patch)
+    alpha, ratio, eta = interface
+    want = np.tensordot(basis(np.log(alpha + grid.ALPHA_OFFSET),
+                              np.log(ratio + grid.RATIO_OFFSET),
+                              grid.critical_cosine(eta)), coefficients, axes=(0, 0))
+    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+    assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
+        (p.segment, p.band, p.lo, p.hi) for p in _layout(interface, refined=True)]
+
+
+@pytest.mark.parametrize("interface", [(0.5, 0.3, 1.031), (0.9, 0.02, 1.02),
+                                       (0.9, 0.3, 1.005), (0.9, 0.3, 2.0)])
+def test_the_matched_patch_holds_only_nearly_matched_interfaces(interface):
+    """Outside index ratios [1.01, ``ETA_INTERPOLATED``) and below the grid's second
+    roughness ratio it has no slice; the grid and the rough patch none below
+    ``ETA_INTERPOLATED``."""
+    assert grid.MATCHED.stencils(*interface) is None
+    assert grid.GRID.stencils(0.5, 0.3, 1.02) is None
+    assert grid.PATCH.stencils(0.9, 0.3, 1.02) is None
 
 
 @pytest.mark.parametrize("interface", [(0.5, 0.3, 1.07), (0.9, 0.3, 1.25),
@@ -191,8 +266,8 @@ def test_interpolated_slice_off_the_grid_and_at_sqrt2():
 @pytest.fixture
 def synthetic_grid(monkeypatch):
     """The library as if it shipped a grid whose every slice holds E_R = 0.125 and
-    E_T = 0.75 and a refined patch whose every slice holds E_R = 0.25 and E_T = 0.5 (exact in
-    the rounding of ``encode``)."""
+    E_T = 0.75, a refined patch whose every slice holds E_R = 0.25 and E_T = 0.5 and a nearly
+    index-matched one of E_R = 0.0625 and E_T = 0.5 (exact in the rounding of ``encode``)."""
     import adobe_bsdf.tables.dielectric_grid as module
 
     def constant(grid, half, e_r, e_t, refined=False):
@@ -203,13 +278,15 @@ def synthetic_grid(monkeypatch):
         return v
 
     columns = {module.GRID: {h: constant(module.GRID, h, 0.125, 0.75) for h in module.HALVES},
-               module.PATCH: {"below": constant(module.PATCH, "below", 0.25, 0.5, True)}}
-    module.grid_slice.cache_clear()
+               module.PATCH: {"below": constant(module.PATCH, "below", 0.25, 0.5, True)},
+               module.MATCHED: {"below": constant(module.MATCHED, "below", 0.0625, 0.5,
+                                                  True)}}
+    module._grid_slice.cache_clear()
     monkeypatch.setattr(module, "shipped", lambda grid=module.GRID: True)
     monkeypatch.setattr(module, "_shipped_columns",
                         lambda grid=module.GRID: module.array_columns(columns[grid]))
     yield
-    module.grid_slice.cache_clear()
+    module._grid_slice.cache_clear()
 
 
 def test_default_lobes_read_the_shipped_grid(synthetic_grid):
@@ -231,6 +308,35 @@ def test_default_lobes_read_the_shipped_grid(synthetic_grid):
     with ab.config.options(anisotropic_energy="exact"):
         assert lobes.Dielectric(1.45, 0.4, 0.1).slices == "exact"
     assert lobes.Dielectric(1.45, 0.4, 0.4).slices == ""  # isotropic: the tables
+
+
+@pytest.mark.parametrize("eta", [1.02, 1 / 1.012, 1.0301])
+def test_nearly_matched_interfaces_read_their_patch(synthetic_grid, eta):
+    """Index ratios 1.01 to ``ETA_INTERPOLATED`` read ``MATCHED`` (E_R + E_T 0.5625) at
+    every roughness from either side; just above, the grid (0.875) or the rough patch
+    (0.75)."""
+    from adobe_bsdf import lobes
+
+    wo = np.array([[0.3, 0.4, np.sqrt(0.75)], [0.6, 0.0, -0.8]])
+    for alpha_x, alpha_y in ((0.9, 0.3), (0.01, 0.006), (2.0, 1.9)):
+        albedo = lobes.Dielectric(eta, alpha_x, alpha_y).albedo(wo, method="table")
+        np.testing.assert_allclose(albedo[..., 0], 0.5625, rtol=0, atol=1e-12)
+    for alpha_x, want in ((0.3, 0.875), (0.9, 0.75)):
+        albedo = lobes.Dielectric(1.031, alpha_x, 0.5 * alpha_x).albedo(wo, method="table")
+        np.testing.assert_allclose(albedo[..., 0], want, rtol=0, atol=1e-12)
+
+
+def test_nearly_smooth_interfaces_read_only_their_total_from_the_grid(synthetic_grid):
+    """Below alpha_max ``ALPHA_REFLECTION`` a lobe reads E_R + E_T from the grid (0.875),
+    while E_R alone comes from the computed slice; above it both from the grid."""
+    from adobe_bsdf import lobes
+
+    assert grid.grid_slice(0.004, 0.5, 1.5) is not None
+    assert grid.grid_slice(0.004, 0.5, 1.5, "reflection") is None
+    assert grid.grid_slice(0.03, 0.5, 1.5, "reflection") is grid.grid_slice(0.03, 0.5, 1.5)
+    wo = np.array([[0.3, 0.4, np.sqrt(0.75)], [0.6, 0.0, -0.8]])
+    albedo = lobes.Dielectric(1.5, 0.004, 0.002).albedo(wo, method="table")
+    np.testing.assert_allclose(albedo[..., 0], 0.875, rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize("eta", [1.05, 1 / 1.05, 1.2])

@@ -451,14 +451,14 @@ def slice_source(distribution: GGX) -> str:
     return "exact"
 
 
-def _slice(alpha: float, ratio: float, eta: float, source: str):
-    """The slice of (``alpha``, ``ratio``, index ratio ``eta``) from ``source``: "grid"
-    (``dielectric_grid.grid_slice``, or where the library does not read the grid, nearly
-    index-matched, nearly one-dimensional or nearly smooth interfaces
-    (``dielectric_grid.interpolated``), the computed slice) or "exact"
-    (``dielectric_slice``, computed once per process)."""
+def _slice(alpha: float, ratio: float, eta: float, source: str, channel: str = "total"):
+    """The slice of (``alpha``, ``ratio``, index ratio ``eta``) from ``source`` for
+    ``channel`` ("total" or "reflection"): "grid" (``dielectric_grid.grid_slice``, or where
+    the library does not read the grid, nearly one-dimensional interfaces, index ratios
+    below its first and the E_R of nearly smooth interfaces (``dielectric_grid.interpolated``),
+    the computed slice) or "exact" (``dielectric_slice``, computed once per process)."""
     if source == "grid":
-        piece = dielectric_grid.grid_slice(alpha, ratio, eta)
+        piece = dielectric_grid.grid_slice(alpha, ratio, eta, channel)
         if piece is not None:
             return piece
     return dielectric_slice(alpha, ratio, eta)
@@ -467,12 +467,13 @@ def _slice(alpha: float, ratio: float, eta: float, source: str):
 _SLICES = "ggx_dielectric_anisotropic (the slices)"
 
 
-def _interface_slice(distribution: GGX, eta, source: str):
-    """The slice of one interface (scalar parameters) from ``source``, None where it is
-    isotropic; its coordinates checked as ``_slices`` checks them (``_interface``)."""
+def _interface_slice(distribution: GGX, eta, source: str, channel: str = "total"):
+    """The slice of one interface (scalar parameters) from ``source`` for ``channel``, None
+    where it is isotropic; its coordinates checked as ``_slices`` checks them
+    (``_interface``)."""
     alpha, ratio, index = _interface(float(distribution.alpha_x), float(distribution.alpha_y),
                                      bool(is_anisotropic(distribution)), float(eta))
-    return None if alpha is None else _slice(alpha, ratio, index, source)
+    return None if alpha is None else _slice(alpha, ratio, index, source, channel)
 
 
 @functools.lru_cache(maxsize=4096)
@@ -486,13 +487,13 @@ def _interface(alpha_x: float, alpha_y: float, anisotropic: bool, eta: float):
     return float(alpha), float(ratio), float(index)
 
 
-def _slices(eta, distribution: GGX, shape, source: str):
+def _slices(eta, distribution: GGX, shape, source: str, channel: str = "total"):
     """``(mask, slice)`` pairs covering the anisotropic elements of ``shape``: one slice per
-    distinct (alpha, ratio, index ratio) of the parameters, from ``source`` (``_slice``),
-    each mask of ``shape`` (a broadcast view of the parameters' mask)."""
+    distinct (alpha, ratio, index ratio) of the parameters, from ``source`` for ``channel``
+    (``_slice``), each mask of ``shape`` (a broadcast view of the parameters' mask)."""
     params = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
     if params == ():  # one interface (anisotropic: the caller asked for its slice)
-        piece = _interface_slice(distribution, eta, source)
+        piece = _interface_slice(distribution, eta, source, channel)
         if piece is not None:
             yield np.broadcast_to(True, shape), piece
         return
@@ -506,7 +507,7 @@ def _slices(eta, distribution: GGX, shape, source: str):
     for k, (a, r, e) in enumerate(unique):
         mask = np.zeros(params, dtype=bool)
         mask[tuple(where[inverse.ravel() == k].T)] = True
-        yield np.broadcast_to(mask, shape), _slice(a, r, e, source)
+        yield np.broadcast_to(mask, shape), _slice(a, r, e, source, channel)
 
 
 def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
@@ -520,7 +521,7 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     on_light = (wo[..., 2] > 0.0) == sides(eta)[0]
     shape = np.broadcast_shapes(mu.shape, np.shape(eta), distribution.param_shape)
     if shape == mu.shape and np.ndim(eta) == 0 and distribution.param_shape == ():
-        piece = _interface_slice(distribution, eta, source)  # one interface: no masks
+        piece = _interface_slice(distribution, eta, source, channel)  # one: no masks
         if piece is not None:
             E = piece.channel(channel, on_light, mu, cos_phi)
             error = piece.error(on_light, mu, cos_phi) if with_error else None
@@ -538,7 +539,7 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     def errors(piece, *args):
         e = piece.error(*args)
         return e.sum(-1) if channel == "total" else e[..., 0]
-    for mask, piece in _slices(eta, distribution, shape, source):
+    for mask, piece in _slices(eta, distribution, shape, source, channel):
         if mask.strides == (0,) * mask.ndim:  # every element: one scalar interface
             E[...] = piece.channel(channel, on_light, mu, cos_phi)
             if with_error:
@@ -551,12 +552,13 @@ def slice_energy(eta, distribution: GGX, wo, with_error: bool = False,
     return pick(grazing, 0.0, E), None if error is None else pick(grazing, 0.0, error)
 
 
-def slice_average(eta, distribution: GGX, source: str = "exact"):
+def slice_average(eta, distribution: GGX, source: str = "exact", channel: str = "total"):
     """``(light, dense)``: each ``(..., 2)``, the (E_R, E_T) averages of the anisotropic
-    elements' slices seen from the light and the dense side (0 elsewhere)."""
+    elements' slices seen from the light and the dense side (0 elsewhere), of the slices
+    that serve ``channel`` (``_slice``: "reflection" for a reader of E_R alone)."""
     shape = np.broadcast_shapes(np.shape(eta), distribution.param_shape)
     light, dense = np.zeros(shape + (2,)), np.zeros(shape + (2,))
-    for mask, piece in _slices(eta, distribution, shape, source):
+    for mask, piece in _slices(eta, distribution, shape, source, channel):
         light[mask], dense[mask] = piece.average_outside, piece.average_inside
     return light, dense
 

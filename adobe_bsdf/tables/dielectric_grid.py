@@ -15,8 +15,8 @@ Public API
                            the ``DielectricSlice`` of any interface on the grid: its node
                            values interpolated across the grid points (cubic convolution
                            per axis, ``Axis.stencil``); None where eta is off the grid.
-``GRID``, ``PATCH``, ``GRIDS``
-                           the whole grid (``SliceGrid``) and its refined patch, read first.
+``GRID``, ``PATCH``, ``MATCHED``, ``GRIDS``
+                           the whole grid (``SliceGrid``) and its refined patches, read first.
 ``read_slice(columns_of, alpha, ratio, eta)``
                            the slice the library reads: the first grid that holds it.
 ``stored_columns(folder)`` / ``array_columns(grid)``
@@ -34,6 +34,12 @@ refined layout (``dielectric_slices.layout``, twice the nodes), baked and stored
 is (files ``refined-below_<k>.npz``), and is read wherever an interface's stencils lie
 inside it; its error is measured in ``docs/anisotropic_grid_measured.md``.
 
+The nearly index-matched patch (``MATCHED``). Between index ratios 1.01 and 1.03 the
+energy, from both sides, turns faster in eta than the grid's one cell there follows (the
+critical cosine mu_c = sqrt(1 - 1 / eta^2) ~ sqrt(2 (eta - 1)) sweeps the dense side); on
+an axis uniform in mu_c at a step of 0.05, in the refined layout, it is read as the others
+(files ``matched-below_<k>.npz``).
+
 Why a grid of slices (measured in ``docs/anisotropic_candidates_measured.md``): node for
 node, a slice's values (in coordinates aligned with the critical angle and the kinks of a
 nearly one-dimensional surface) are smooth in the interface (alpha, ratio, eta), so cubic
@@ -46,7 +52,7 @@ Axes, each uniform in q = ln(x + offset) at a step of at most ``STEP``:
 
 * alpha = alpha_max in [0, ``ALPHA_MAX``], offset ``ALPHA_OFFSET``: 0.3 in ln alpha above
   alpha ~ 0.3, coarser towards 0, where the slices' coordinates scale with the roughness
-  and the measured error is 1e-6 (alpha 0 is the slice's own limit);
+  (the node values tend to a limit, which the first node holds: ``ALPHA_LIMIT``);
 * ratio = alpha_min / alpha_max in [0, 1], offset ``RATIO_OFFSET`` (0: the one-dimensional
   surface);
 * eta, the index ratio in [``ETA_MIN``, ``ETA_MAX``], q = ln(eta - 1 + ``ETA_OFFSET``), in
@@ -77,9 +83,9 @@ from adobe_bsdf.tables.table import Axis
 __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "decode",
            "columns", "column_file", "write_column", "read_column", "stored_columns",
            "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN",
-           "interpolated", "ETA_INTERPOLATED", "RATIO_INTERPOLATED", "ALPHA_INTERPOLATED",
+           "interpolated", "ETA_INTERPOLATED", "RATIO_INTERPOLATED", "ALPHA_REFLECTION",
            "ETA_MAX", "ALPHA_MAX", "SliceGrid", "GRID", "PATCH", "GRIDS", "point_values",
-           "read_slice", "folder_columns"]
+           "read_slice", "folder_columns", "ALPHA_LIMIT", "MATCHED", "critical_cosine"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -103,16 +109,25 @@ def _axes(eta_lo: float, eta_hi: float) -> tuple[Axis, Axis, Axis]:
 #: the two grids' axes (q_alpha, q_ratio, q_eta)
 HALVES = {"below": _axes(ETA_MIN, _ROOT2 * (1.0 - SQRT2_GAP)),
           "above": _axes(_ROOT2 * (1.0 + SQRT2_GAP), ETA_MAX)}
-#: where the interpolation starts: the grid's second index ratio, third roughness ratio and
-#: third roughness. Across the cells below them the energy turns too fast for the cubic
-#: stencil at grazing cosines (mu ~ 1e-3), that of a nearly index-matched interface, of a
-#: nearly one-dimensional one and of a nearly smooth one (1e-2 to 2.6e-2 at alpha 0.003 to
-#: 0.005, 4e-3 to 6e-3 at alpha 0.01: ``benchmarks.anisotropic_grid``'s extremes), and the
-#: white furnace misses by several times 2e-3. An interface there computes its own slice,
-#: as one below ``ETA_MIN`` does.
+#: where the grid's interpolation starts: its second index ratio and third roughness ratio.
+#: Across the cells below them the energy turns too fast for the cubic stencil at grazing
+#: cosines (mu ~ 1e-3), that of a nearly index-matched interface and of a nearly
+#: one-dimensional one (by up to 1e-2 and 2.6e-2: ``benchmarks.anisotropic_grid``'s column
+#: "the grid alone"), and the white furnace misses by several times 2e-3. A nearly
+#: index-matched interface reads ``MATCHED`` instead; a nearly one-dimensional one computes
+#: its own slice, as one below ``ETA_MIN`` does. (Nearly smooth interfaces read E_R + E_T
+#: from the grid down to alpha 0: its first roughness node holds the limit alpha -> 0+,
+#: ``ALPHA_LIMIT``; their E_R alone they compute, ``ALPHA_REFLECTION``.)
 ETA_INTERPOLATED = float(1.0 + np.exp(HALVES["below"][2].nodes()[1]) - ETA_OFFSET)
 RATIO_INTERPOLATED = float(np.exp(HALVES["below"][1].nodes()[2]) - RATIO_OFFSET)
-ALPHA_INTERPOLATED = float(np.exp(HALVES["below"][0].nodes()[2]) - ALPHA_OFFSET)
+#: the least alpha_max whose E_R alone the library reads from the grid (the grid's third
+#: roughness node). Below it, at cosines above the roughness, E_R follows the smooth
+#: interface's Fresnel factor, which falls from 1 at grazing faster than the layout's nodes
+#: there resolve (E_R + E_T, 1 there, does not): the grid misses E_R by several times 1e-2
+#: (``benchmarks.anisotropic_grid``'s column "light E_R"), and the white opaque ASM
+#: dielectric, whose diffuse takes 1 - E_R, would lose as much. There E_R (and its average)
+#: comes from the computed slice.
+ALPHA_REFLECTION = float(np.exp(HALVES["below"][0].nodes()[2]) - ALPHA_OFFSET)
 
 
 def _physical(q_alpha, q_ratio, q_eta):
@@ -124,25 +139,43 @@ def _physical(q_alpha, q_ratio, q_eta):
             1.0 + np.exp(q_eta) - ETA_OFFSET)
 
 
+def critical_cosine(eta):
+    """mu_c = sqrt(1 - 1 / eta^2), the cosine of total internal reflection of index ratio
+    ``eta``: the coordinate of ``MATCHED``'s index-ratio axis."""
+    return np.sqrt(1.0 - 1.0 / np.square(eta))
+
+
 @dataclass(frozen=True, eq=False)  # each grid is itself (hashed by identity)
 class SliceGrid:
     """Slices at the points of ``HALVES`` whose node indices lie in ``spans`` (per half, per
     axis (q_alpha, q_ratio, q_eta), the first and last index), in the grid's layout or the
     refined one (``dielectric_slices.layout``); stored in files whose names start with
-    ``prefix``. ``GRID`` is the whole grid; ``PATCH`` a refined part of it."""
+    ``prefix``. ``GRID`` is the whole grid; ``PATCH`` a refined part of it. A grid with its
+    own ``mu_c`` axis (nodes in ``critical_cosine``) takes its index ratios from there
+    instead of q_eta. A grid is read for the index ratios in ``etas`` = [lo, hi)."""
 
     spans: dict
     refined: bool = False
     prefix: str = ""
+    mu_c: Axis | None = None
+    etas: tuple = (ETA_INTERPOLATED, np.inf)
 
     def shape(self, half: str) -> tuple[int, int, int]:
         return tuple(hi - lo + 1 for lo, hi in self.spans[half])
 
+    def axes(self, half: str) -> tuple[Axis, Axis, Axis]:
+        """(q_alpha, q_ratio, and q_eta or ``mu_c``): the axes of the node indices."""
+        return HALVES[half][:2] + (self.mu_c or HALVES[half][2],)
+
     def points(self, half: str) -> np.ndarray:
         """``(n, 3)`` (alpha, ratio, eta) of every point, in C order."""
         q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
-                          in zip(HALVES[half], self.spans[half], strict=True)], indexing="ij")
-        return np.stack(_physical(*[x.ravel() for x in q]), -1)
+                          in zip(self.axes(half), self.spans[half], strict=True)],
+                        indexing="ij")
+        alpha, ratio, eta = _physical(*[x.ravel() for x in q])
+        if self.mu_c is not None:
+            eta = 1.0 / np.sqrt(1.0 - q[2].ravel() ** 2)
+        return np.stack([alpha, ratio, eta], -1)
 
     def columns(self) -> list[tuple[str, int]]:
         """(half, k) of every column: the slices at one index ratio."""
@@ -152,12 +185,14 @@ class SliceGrid:
         """(half, [(indices, weights)] per axis, q_eta) of the interpolant at the interface,
         the indices this grid's own; None where the stencil leaves the grid."""
         half, q_eta = _half(eta)
-        if half not in self.spans:
+        if half not in self.spans or not self.etas[0] <= eta < self.etas[1]:
             return None
+        if self.mu_c is not None:
+            q_eta = float(critical_cosine(eta))
         coords = (np.log(min(alpha, ALPHA_MAX) + ALPHA_OFFSET),
                   np.log(min(max(ratio, 0.0), 1.0) + RATIO_OFFSET), q_eta)
         out = []
-        for axis, q, (lo, hi) in zip(HALVES[half], coords, self.spans[half], strict=True):
+        for axis, q, (lo, hi) in zip(self.axes(half), coords, self.spans[half], strict=True):
             index, weights = axis.stencil(np.clip(q, axis.lo, axis.hi))
             if index.min() < lo or index.max() > hi:
                 return None
@@ -172,8 +207,17 @@ GRID = SliceGrid({half: tuple((0, a.n - 1) for a in axes) for half, axes in HALV
 #: (alpha 2, ratio 1, eta 1.031; ``benchmarks.anisotropic_grid``'s extremes). Read for
 #: alpha_max >= 0.617 and index ratios up to 1.21 (where its stencils lie inside it).
 PATCH = SliceGrid({"below": ((11, 16), (1, 11), (0, 6))}, refined=True, prefix="refined-")
-#: every grid the library reads, the patch first
-GRIDS = (PATCH, GRID)
+#: nearly index-matched interfaces (index ratio ``ETA_MIN`` to ``ETA_INTERPOLATED``), where
+#: the energy turns too fast in q_eta for the grid's one cell there (it missed by up to
+#: 1e-2): the refined layout on an axis uniform in the critical cosine, whose step of 0.05
+#: interpolates within 1e-3 seen from the light side (``benchmarks.anisotropic_grid``), at
+#: every roughness and the roughness ratios the grid reads (from its second node)
+MATCHED = SliceGrid({"below": ((0, 16), (1, 11), (0, 3))}, refined=True, prefix="matched-",
+                    mu_c=Axis("mu_c", float(critical_cosine(ETA_MIN)),
+                              float(critical_cosine(ETA_MIN)) + 0.15, 4, "linear", "cubic"),
+                    etas=(ETA_MIN, ETA_INTERPOLATED))
+#: every grid the library reads, the patches first
+GRIDS = (MATCHED, PATCH, GRID)
 
 
 def grid_points(half: str) -> np.ndarray:
@@ -181,11 +225,22 @@ def grid_points(half: str) -> np.ndarray:
     return GRID.points(half)
 
 
+#: the roughness at which the slices of the first roughness node (alpha_max = 0) are
+#: computed: the limit alpha -> 0+ of every node's value. At alpha = 0 itself the projected
+#: roughness of the slice's coordinates is ``ALPHA_FLOOR``, which puts the nodes at other
+#: mu / alpha_phi than at any alpha > 0, and interpolating across that node missed by
+#: several times 1e-2 at alpha 0.003 to 0.005; the node values at ``ALPHA_LIMIT`` differ
+#: from those at a tenth of it by some 2e-5, a tenth of the node integrator's own error
+#: (``benchmarks.anisotropic_grid``, "The nearly smooth limit").
+ALPHA_LIMIT = 1e-5
+
+
 def point_values(point, refined: bool = False) -> np.ndarray:
     """``(n_nodes, 2)`` float32 node values (E_R, E_T) of the slice at ``point`` = (alpha,
     ratio, eta), in ``dielectric_slices.node_directions``' order: those of
-    ``dielectric_slice(*point, refined=refined)``."""
+    ``dielectric_slice(*point, refined=refined)``, at alpha = 0 those at ``ALPHA_LIMIT``."""
     point = tuple(float(x) for x in point)
+    point = (max(point[0], ALPHA_LIMIT),) + point[1:]
     parts = layout(*point, refined=refined)
     return node_energy(*point, *node_directions(parts)).astype(np.float32)
 
@@ -345,7 +400,7 @@ def interpolated_slice(column, alpha: float, ratio: float, eta: float,
     half, ((ia, wa), (ir, wr), (ie, we)), q_eta = found
     block = np.stack([column(half, int(k))[np.ix_(ia, ir)] for k in ie])
     values = np.einsum("e,a,r,earnc->nc", we, wa, wr, block)
-    eta_grid = 1.0 + np.exp(q_eta) - ETA_OFFSET
+    eta_grid = eta if grid.mu_c is not None else 1.0 + np.exp(q_eta) - ETA_OFFSET
     parts = filled(layout(alpha, ratio, eta_grid, refined=grid.refined), values)
     return assembled(alpha, ratio, eta, parts)
 
@@ -366,20 +421,23 @@ def _shipped_columns(grid: SliceGrid = GRID):
     return stored_columns(_path(), grid)
 
 
-def interpolated(alpha: float, ratio: float, eta: float) -> bool:
-    """Whether the library reads the slice of an interface of roughness ``alpha`` (alpha_max),
-    roughness ratio ``ratio`` and index ratio ``eta`` from the grid: eta in
-    [``ETA_INTERPOLATED``, ``ETA_MAX``], ratio >= ``RATIO_INTERPOLATED`` and alpha >=
-    ``ALPHA_INTERPOLATED``; elsewhere it computes the slice."""
-    return (ETA_INTERPOLATED <= eta <= ETA_MAX and ratio >= RATIO_INTERPOLATED
-            and alpha >= ALPHA_INTERPOLATED)
+def interpolated(alpha: float, ratio: float, eta: float, channel: str = "total") -> bool:
+    """Whether the library reads the slice of an interface of roughness ``alpha``
+    (alpha_max), roughness ratio ``ratio`` and index ratio ``eta`` from the grids for
+    ``channel`` (E_R + E_T "total" or E_R "reflection"): eta in [``ETA_MIN``, ``ETA_MAX``]
+    (below ``ETA_INTERPOLATED`` from ``MATCHED``), ratio >= ``RATIO_INTERPOLATED`` and, for
+    E_R, alpha >= ``ALPHA_REFLECTION``; elsewhere it computes the slice."""
+    return (ETA_MIN <= eta <= ETA_MAX and ratio >= RATIO_INTERPOLATED
+            and (channel == "total" or alpha >= ALPHA_REFLECTION))
 
 
-def read_slice(columns_of, alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
-    """The slice that the library reads for the interface: ``interpolated_slice`` of the
-    first of ``GRIDS`` whose columns ``columns_of(grid)`` gives (None: not there) and whose
-    stencils hold the interface; None where the grid is not read (``interpolated``)."""
-    if not interpolated(alpha, ratio, eta):
+def read_slice(columns_of, alpha: float, ratio: float, eta: float,
+               channel: str = "total") -> DielectricSlice | None:
+    """The slice that the library reads for the interface and ``channel``:
+    ``interpolated_slice`` of the first of ``GRIDS`` whose columns ``columns_of(grid)``
+    gives (None: not there) and whose stencils hold the interface; None where the grid is
+    not read (``interpolated``)."""
+    if not interpolated(alpha, ratio, eta, channel):
         return None
     for grid in GRIDS:
         column = columns_of(grid)
@@ -398,10 +456,15 @@ def folder_columns(folder):
     return found.get
 
 
-@functools.lru_cache(maxsize=256)
-def grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
+def grid_slice(alpha: float, ratio: float, eta: float,
+               channel: str = "total") -> DielectricSlice | None:
     """``read_slice`` of the shipped grids (each column read from its file when first
-    needed), kept for the 256 interfaces last read; None where the grid is not read
-    (``interpolated``)."""
+    needed), kept for the 256 interfaces last read (one slice for both channels); None
+    where the grid is not read (``interpolated``)."""
+    return _grid_slice(alpha, ratio, eta) if interpolated(alpha, ratio, eta, channel) else None
+
+
+@functools.lru_cache(maxsize=256)
+def _grid_slice(alpha: float, ratio: float, eta: float) -> DielectricSlice | None:
     return read_slice(lambda grid: _shipped_columns(grid) if shipped(grid) else None,
                       alpha, ratio, eta)

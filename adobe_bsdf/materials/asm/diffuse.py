@@ -97,7 +97,7 @@ def _lobe_average(roughness, ior, microfacets, slices=""):
     T = tables.get("asm_diffuse_T")(roughness, ior)[..., 0]
     aniso = _anisotropic(microfacets)
     if slices:
-        T = pick(aniso, slice_average(ior, microfacets, slices)[0][..., 0], T)
+        T = pick(aniso, slice_average(ior, microfacets, slices, "reflection")[0][..., 0], T)
     elif np.any(aniso):
         T = pick(aniso, T + anisotropic_reflection_average(
             microfacets, _reference(roughness), ior), T)
