@@ -230,8 +230,8 @@ def grid_points(half: str) -> np.ndarray:
 #: roughness of the slice's coordinates is ``ALPHA_FLOOR``, which puts the nodes at other
 #: mu / alpha_phi than at any alpha > 0, and interpolating across that node missed by
 #: several times 1e-2 at alpha 0.003 to 0.005; the node values at ``ALPHA_LIMIT`` differ
-#: from those at a tenth of it by some 2e-5, a tenth of the node integrator's own error
-#: (``benchmarks.anisotropic_grid``, "The nearly smooth limit").
+#: from those at a tenth of it by 1.8e-5 to 3.4e-5, a sixth of the node integrator's own error
+#: or less (``benchmarks.anisotropic_grid``, "The nearly smooth limit").
 ALPHA_LIMIT = 1e-5
 
 
