@@ -487,8 +487,8 @@ def markdown(result: dict, seconds: float) -> str:
             "(`dielectric_grid.ALPHA_REFLECTION`) the library reads only E_R + E_T from the "
             "grid and computes the slice for E_R alone (the E_R rows of the first table leave "
             "those interfaces out).", "",
-            f"The grid's files ({result['path']}/, one per index ratio, the patch's too): "
-            f"{result['bytes'] / 2**20:.2f} MB."]
+            f"The grid's files ({result['path']}/, one per index ratio, the patches' too): "
+            f"{_size(result['bytes'])}."]
     if "costs" in result:
         out += ["", "## Cost", "", "| lobe | eval / isotropic | sample / isotropic |",
                 "|---|---|---|"]
@@ -505,6 +505,13 @@ def markdown(result: dict, seconds: float) -> str:
 
 #: the page whose measured block ``summary`` rewrites, and the block's name
 SUMMARY_PAGE, SUMMARY = "energy_models.md", "anisotropic_grid"
+
+
+def _size(n_bytes: int) -> str:
+    """The files' size, in MB and MiB, and how their values are stored."""
+    q = dielectric_grid.QUANTUM
+    return (f"{n_bytes / 1e6:.2f} MB ({n_bytes / 2**20:.2f} MiB), the node values stored as "
+            f"multiples of 1/{q} (rounded within {0.5 / q:.1e}; `dielectric_grid.QUANTUM`)")
 
 
 def summary(result: dict) -> str:
@@ -527,7 +534,7 @@ def summary(result: dict) -> str:
                 f"{len(result['slices'])} interfaces, nearly one-dimensional and nearly "
                 f"index-matched among them: E_R + E_T within {worst:.1e} for cos θ ≥ 1e-3; "
                 f"it takes up to {slowest:.0f} s, once per interface."]
-    out += ["", f"The grid's files: {result['bytes'] / 2**20:.2f} MB."]
+    out += ["", f"The grid's files: {_size(result['bytes'])}."]
     if "costs" in result:
         out[-1] += (" Cost against the isotropic counterparts, `eval` / `sample`: "
                     + "; ".join(f"{name} {e:.2f}× / {s:.2f}×"

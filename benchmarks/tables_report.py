@@ -578,7 +578,7 @@ def main(argv=None):
             f"{cos_phi} x {ratio} nodes in (|cos phi|, ratio) added that is "
             f"{2 * iso_nodes * cos_phi * ratio:.1e} nodes, "
             f"{2 * iso_nodes * cos_phi * ratio * 16 / 2**20:.0f} MiB of values and errors "
-            "(the whole wheel must stay under 20 MB) and, at the node "
+            "and, at the node "
             f"integrator's {per_node * 1e3:.0f} ms per node, "
             f"{2 * iso_nodes * cos_phi * ratio * per_node / 86400 / (os.cpu_count() or 1):.1f} "
             f"days on this machine's {os.cpu_count()} cores. A lobe holds one (alpha_x, "

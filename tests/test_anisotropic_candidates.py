@@ -99,7 +99,10 @@ def test_grid_studies_on_a_quadratic_grid(tmp_path):
     rows = studies["residual"]
     assert {(h, a) for h, a, _, _ in rows} >= {("below", "alpha"), ("below", "eta"),
                                                ("above", "ratio")}
+    # E_R and E_T are stored within 0.5 / QUANTUM each: the held-out E within 1 / QUANTUM,
+    # the midway Catmull-Rom guess (exact for quadratics, sum |w| = 1.25) within 1.25 / QUANTUM
+    rounding = 2.25 / grid.QUANTUM
     for *_, r in rows:
-        assert max(r["E"]) < 1e-4 and max(r["residual"]) > max(r["E"])
+        assert max(r["E"]) <= rounding and max(r["residual"]) > max(r["E"])
     page = "\n".join(ac._grid_study_lines(studies))
     assert "### One reduced basis" in page and "| below sqrt 2 | alpha |" in page

@@ -360,12 +360,13 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
     them, which the page reports."""
     from benchmarks import anisotropic_grid
 
+    R, T = (grid.QUANTUM + 1) // 8, 3 * (grid.QUANTUM + 1) // 4 - 1  # E_R 1/8, E_T 3/4
     values = {}
     for half, axes in grid.HALVES.items():
         n = sum(int(np.prod(p.table.spec.shape[:-1]))
                 for p in _layout((0.3, 0.3, 1.2 if half == "below" else 2.0)))
         v = np.empty(tuple(a.n for a in axes) + (n, 2))
-        v[..., 0], v[..., 1] = 8192 / grid.QUANTUM, 49151 / grid.QUANTUM  # stored exactly
+        v[..., 0], v[..., 1] = R / grid.QUANTUM, T / grid.QUANTUM  # stored exactly
         values[half] = v
     path = tmp_path / grid.NAME
     for half, k in grid.columns():
@@ -375,7 +376,7 @@ def test_the_grid_benchmark_measures_a_baked_file(tmp_path):
     piece = dielectric_slice(alpha, ratio, eta)
     mu, cos_phi = anisotropic_grid._directions(np.random.default_rng(anisotropic_grid.SEED),
                                               anisotropic_grid.DIRECTIONS)
-    want = (8192 + 49151) / grid.QUANTUM - piece(True, mu, cos_phi).sum(-1)
+    want = (R + T) / grid.QUANTUM - piece(True, mu, cos_phi).sum(-1)
     np.testing.assert_allclose(errors["light"], want, rtol=0, atol=1e-12)
     page = anisotropic_grid.markdown(result, 1.0)
     assert "| light (E_R + E_T unless named) |" in page and grid.NAME in page
