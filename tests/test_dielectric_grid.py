@@ -91,7 +91,10 @@ def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
         return np.full((5, 2), point[0] / 4.0, dtype=np.float32)
 
     patch = grid.SliceGrid({"below": ((1, 2), (3, 4), (2, 4))}, refined=True, prefix="r-")
+    thin = grid.SliceGrid({"above": ((0, 1), (0, 1), (1, 2))}, refined=True, prefix="t-",
+                          thin=grid.THIN.thin, ratios=grid.THIN.ratios)
     monkeypatch.setattr(grid, "GRIDS", (patch, grid.GRID))
+    monkeypatch.setattr(grid, "PENDING", (thin,))
     monkeypatch.setattr(grid, "slice_values", fake)
     monkeypatch.setattr(grid, "point_values", fake_refined)
     partial = tmp_path / f"{grid.NAME}.partial"
@@ -108,9 +111,11 @@ def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
     n = sum(len(grid.grid_points(h)) for h in grid.HALVES)
     n_column = len(grid.grid_points("above")) // grid.HALVES["above"][2].n
     assert len(calls) == n - 1 - n_column
-    assert len(refined_calls) == 2 * 2 * 3
+    assert len(refined_calls) == 2 * 2 * 3 + 2 * 2 * 2
     assert stored == [c for c in grid.columns() if c != ("above", 4)] + [
-        ("below", k) for k in range(3)]  # in column order, the grid's first
+        ("below", k) for k in range(3)] + [("above", 0), ("above", 1)]  # the grid's first
+    assert sorted({p[1] for p in refined_calls[-8:]}) == [
+        0.0, pytest.approx(np.exp(grid.THIN.thin.nodes()[1]) - grid.THIN_OFFSET, rel=1e-12)]
     assert not partial.exists()
     column = grid.stored_columns(out)
     for half in grid.HALVES:
@@ -131,6 +136,11 @@ def test_the_bake_resumes_and_stores_column_by_column(tmp_path, monkeypatch):
         want = points[1:3, 3:5, 2 + k, 0] / 4.0
         assert values.shape == (2, 2, 5, 2)
         assert np.abs(values - want[..., None, None]).max() <= 0.5 / grid.QUANTUM + 1e-7
+    alphas = np.unique(grid.grid_points("above")[:, 0])[:2]
+    for k in range(2):
+        values = grid.stored_columns(out, thin)("above", k)
+        assert values.shape == (2, 2, 5, 2)
+        assert np.abs(values - alphas[:, None, None, None] / 4.0).max() <= 0.5 / grid.QUANTUM
 
 
 def test_the_grid_is_baked_at_its_points_only(capsys):
@@ -223,6 +233,53 @@ def test_the_matched_patch_interpolates_on_the_critical_cosine(interface):
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
     assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
         (p.segment, p.band, p.lo, p.hi) for p in _layout(interface, refined=True)]
+
+
+def test_the_thin_patch_spans_the_nearly_one_dimensional_ratios():
+    """``THIN``: roughness ratios from 0 to the grid's fourth ratio node, uniform in
+    ln(ratio + ``THIN_OFFSET``) at a step of at most ``THIN_STEP``, at every roughness and
+    index-ratio node of the grid; read below ``RATIO_INTERPOLATED`` from
+    ``ETA_INTERPOLATED`` up, nowhere else."""
+    thin = grid.THIN
+    ratios = np.unique(thin.points("below")[:, 1])
+    grid_ratios = np.unique(grid.grid_points("below")[:, 1])
+    assert ratios[0] == 0.0 and ratios[-1] == pytest.approx(grid_ratios[3], rel=1e-12)
+    assert np.all(np.diff(np.log(ratios + grid.THIN_OFFSET)) <= grid.THIN_STEP + 1e-12)
+    for half in grid.HALVES:
+        for k in (0, 2):
+            np.testing.assert_array_equal(np.unique(thin.points(half)[:, k]),
+                                          np.unique(grid.grid_points(half)[:, k]))
+    assert thin.stencils(0.9, 0.0, 1.5) is not None
+    assert thin.stencils(0.9, 0.9 * grid.RATIO_INTERPOLATED, 2.9) is not None
+    for interface in ((0.9, grid.RATIO_INTERPOLATED, 1.5), (0.9, 0.01, 1.02),
+                      (0.9, 0.01, 1.005)):
+        assert thin.stencils(*interface) is None
+
+
+@pytest.mark.parametrize("interface", [(0.37, 0.0, 1.2), (1.9, 0.003, 2.1),
+                                       (0.004, 3e-5, 1.5), (0.7, 0.036, 1.06)])
+def test_the_thin_patch_interpolates_in_the_log_of_the_ratio(interface):
+    """A quadratic in (q_alpha, ln(ratio + 1e-5), q_eta) over ``THIN``'s points comes back to
+    rounding, laid out refined at the interface's own roughness ratio."""
+    thin = grid.THIN
+    half = "below" if interface[2] < np.sqrt(2.0) else "above"
+    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1]))
+                  for p in _layout(interface, refined=True))
+    coefficients = np.random.default_rng(6).normal(size=(7, n_nodes, 2))
+
+    def basis(qa, qr, qe):
+        return np.stack([np.ones_like(qa), qa, qr, qe, qa * qr, qr * qr, qe * qe], -1)
+    q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
+                      in zip(thin.axes(half), thin.spans[half], strict=True)], indexing="ij")
+    values = {half: np.einsum("abcj,jnk->abcnk", basis(*q), coefficients)}
+    piece = grid.interpolated_slice(grid.array_columns(values), *interface, grid=thin)
+    alpha, ratio, eta = interface
+    want = np.tensordot(basis(np.log(alpha + grid.ALPHA_OFFSET), grid.thin_coordinate(ratio),
+                              np.log(eta - 1.0 + grid.ETA_OFFSET)), coefficients, axes=(0, 0))
+    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+    assert [(p.segment, p.band, p.lo, p.hi, p.ratio) for p in piece.parts] == [
+        (p.segment, p.band, p.lo, p.hi, p.ratio) for p in _layout(interface, refined=True)]
 
 
 @pytest.mark.parametrize("interface", [(0.5, 0.3, 1.031), (0.9, 0.02, 1.02),

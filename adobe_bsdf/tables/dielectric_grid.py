@@ -17,6 +17,8 @@ Public API
                            per axis, ``Axis.stencil``); None where eta is off the grid.
 ``GRID``, ``PATCH``, ``MATCHED``, ``GRIDS``
                            the whole grid (``SliceGrid``) and its refined patches, read first.
+``THIN``, ``PENDING``      the patch of nearly one-dimensional interfaces, on its own axis in
+                           ``thin_coordinate``, and the grids baked but not yet read.
 ``read_slice(columns_of, alpha, ratio, eta)``
                            the slice the library reads: the first grid that holds it.
 ``stored_columns(folder)`` / ``array_columns(grid)``
@@ -33,6 +35,11 @@ that corner (alpha_max from 0.46, index ratios up to 1.3, every roughness ratio)
 refined layout (``dielectric_slices.layout``, twice the nodes), baked and stored as the grid
 is (files ``refined-below_<k>.npz``), and is read wherever an interface's stencils lie
 inside it; its error is measured in ``docs/anisotropic_grid_measured.md``.
+
+The patch of nearly one-dimensional interfaces (``THIN``, in ``PENDING`` until it is
+shipped whole): the refined layout at every roughness and index-ratio node of the grid, on
+an axis in ln(ratio + ``THIN_OFFSET``), where their energy at fixed slice coordinates is
+smooth (below).
 
 The nearly index-matched patch (``MATCHED``). Between index ratios 1.01 and 1.03 the
 energy, from both sides, turns faster in eta than the grid's one cell there follows (the
@@ -85,7 +92,8 @@ __all__ = ["NAME", "HALVES", "grid_points", "slice_values", "bake", "encode", "d
            "array_columns", "shipped", "grid_slice", "interpolated_slice", "ETA_MIN",
            "interpolated", "ETA_INTERPOLATED", "RATIO_INTERPOLATED", "ALPHA_REFLECTION",
            "ETA_MAX", "ALPHA_MAX", "SliceGrid", "GRID", "PATCH", "GRIDS", "point_values",
-           "read_slice", "folder_columns", "ALPHA_LIMIT", "MATCHED", "critical_cosine"]
+           "read_slice", "folder_columns", "ALPHA_LIMIT", "MATCHED", "critical_cosine",
+           "THIN", "PENDING", "thin_coordinate", "THIN_OFFSET", "THIN_STEP"]
 
 NAME = "ggx_dielectric_anisotropic"
 ALPHA_MAX, ETA_MIN, ETA_MAX = 2.0, 1.01, 3.0
@@ -152,20 +160,24 @@ class SliceGrid:
     refined one (``dielectric_slices.layout``); stored in files whose names start with
     ``prefix``. ``GRID`` is the whole grid; ``PATCH`` a refined part of it. A grid with its
     own ``mu_c`` axis (nodes in ``critical_cosine``) takes its index ratios from there
-    instead of q_eta. A grid is read for the index ratios in ``etas`` = [lo, hi)."""
+    instead of q_eta, one with its own ``thin`` axis (nodes in ``thin_coordinate``) its
+    roughness ratios instead of q_ratio. A grid is read for the index ratios in ``etas`` =
+    [lo, hi) and the roughness ratios in ``ratios`` = [lo, hi)."""
 
     spans: dict
     refined: bool = False
     prefix: str = ""
     mu_c: Axis | None = None
     etas: tuple = (ETA_INTERPOLATED, np.inf)
+    thin: Axis | None = None
+    ratios: tuple = (0.0, np.inf)
 
     def shape(self, half: str) -> tuple[int, int, int]:
         return tuple(hi - lo + 1 for lo, hi in self.spans[half])
 
     def axes(self, half: str) -> tuple[Axis, Axis, Axis]:
-        """(q_alpha, q_ratio, and q_eta or ``mu_c``): the axes of the node indices."""
-        return HALVES[half][:2] + (self.mu_c or HALVES[half][2],)
+        """(q_alpha, q_ratio or ``thin``, q_eta or ``mu_c``): the axes of the node indices."""
+        return HALVES[half][0], self.thin or HALVES[half][1], self.mu_c or HALVES[half][2]
 
     def points(self, half: str) -> np.ndarray:
         """``(n, 3)`` (alpha, ratio, eta) of every point, in C order."""
@@ -175,6 +187,9 @@ class SliceGrid:
         alpha, ratio, eta = _physical(*[x.ravel() for x in q])
         if self.mu_c is not None:
             eta = 1.0 / np.sqrt(1.0 - q[2].ravel() ** 2)
+        if self.thin is not None:
+            ratio = np.exp(q[1].ravel()) - THIN_OFFSET
+            ratio[q[1].ravel() == self.thin.lo] = 0.0  # the first node is 0, not its rounding
         return np.stack([alpha, ratio, eta], -1)
 
     def columns(self) -> list[tuple[str, int]]:
@@ -185,12 +200,14 @@ class SliceGrid:
         """(half, [(indices, weights)] per axis, q_eta) of the interpolant at the interface,
         the indices this grid's own; None where the stencil leaves the grid."""
         half, q_eta = _half(eta)
-        if half not in self.spans or not self.etas[0] <= eta < self.etas[1]:
+        if (half not in self.spans or not self.etas[0] <= eta < self.etas[1]
+                or not self.ratios[0] <= ratio < self.ratios[1]):
             return None
         if self.mu_c is not None:
             q_eta = float(critical_cosine(eta))
+        ratio = min(max(ratio, 0.0), 1.0)
         coords = (np.log(min(alpha, ALPHA_MAX) + ALPHA_OFFSET),
-                  np.log(min(max(ratio, 0.0), 1.0) + RATIO_OFFSET), q_eta)
+                  np.log(ratio + (RATIO_OFFSET if self.thin is None else THIN_OFFSET)), q_eta)
         out = []
         for axis, q, (lo, hi) in zip(self.axes(half), coords, self.spans[half], strict=True):
             index, weights = axis.stencil(np.clip(q, axis.lo, axis.hi))
@@ -218,6 +235,42 @@ MATCHED = SliceGrid({"below": ((0, 16), (1, 11), (0, 3))}, refined=True, prefix=
                     etas=(ETA_MIN, ETA_INTERPOLATED))
 #: every grid the library reads, the patches first
 GRIDS = (MATCHED, PATCH, GRID)
+
+
+#: ``THIN``'s axis: q = ln(ratio + THIN_OFFSET), uniform at a step of at most THIN_STEP
+THIN_OFFSET, THIN_STEP = 1e-5, 0.6
+
+
+def thin_coordinate(ratio):
+    """q = ln(ratio + ``THIN_OFFSET``): the coordinate of ``THIN``'s roughness-ratio axis."""
+    return np.log(np.asarray(ratio, dtype=np.float64) + THIN_OFFSET)
+
+
+def _thin_axis() -> Axis:
+    """From ratio 0 to the grid's fourth ratio node (so that every ratio below
+    ``RATIO_INTERPOLATED`` has its stencil inside), uniform in ``thin_coordinate``."""
+    top = float(np.exp(HALVES["below"][1].nodes()[3]) - RATIO_OFFSET)
+    q0, q1 = float(thin_coordinate(0.0)), float(thin_coordinate(top))
+    return Axis("q_thin", q0, q1, int(np.ceil((q1 - q0) / THIN_STEP)) + 1, "linear", "cubic")
+
+
+#: nearly one-dimensional interfaces (roughness ratio below ``RATIO_INTERPOLATED``). Near
+#: the smooth axis their energy turns where |cos phi| ~ ratio (and, in the boundary layer,
+#: cos theta ~ ratio alpha), so at fixed slice coordinates it is a smooth function of
+#: ln(ratio), not of the grid's q_ratio, nearly linear in the ratio below its offset 0.05:
+#: across the grid's nodes 0, 0.016 and 0.037 it missed by up to 2.6e-2. The refined layout
+#: at every roughness and index-ratio node of the grid (read from ``ETA_INTERPOLATED``) on an
+#: axis in ln(ratio + 1e-5) at a step of 0.6 (16 nodes, 3808 slices). Probed before choosing
+#: it (alpha 0.3 to 2, eta 1.05 and 1.5): at fixed slice coordinates within 5e-4 of the node
+#: values (a step of 1.0: up to 2e-2), and its slices as close to the node integrator as the
+#: computed ones. Baked by ``bake`` with the others (files ``thin-<half>_<k>.npz``); the
+#: library reads it once it is shipped whole (``PENDING``).
+THIN = SliceGrid({half: ((0, axes[0].n - 1), (0, _thin_axis().n - 1), (0, axes[2].n - 1))
+                  for half, axes in HALVES.items()}, refined=True, prefix="thin-",
+                 thin=_thin_axis(), ratios=(0.0, RATIO_INTERPOLATED))
+#: grids declared and baked (``bake``) that the library does not read yet: each joins
+#: ``GRIDS`` once every column of it is shipped
+PENDING = (THIN,)
 
 
 def grid_points(half: str) -> np.ndarray:
@@ -288,7 +341,7 @@ def read_column(path) -> np.ndarray:
 
 
 def bake(folder, executor, progress: bool = True) -> Path:
-    """Compute every slice of every grid (``GRIDS``) on ``executor``
+    """Compute every slice of every grid (``GRIDS``, ``PENDING``) on ``executor``
     (``executors.open_executor``) into ``<folder>/<NAME>/``, one file per column
     (``write_column``) as soon as its slices are done; finished slices wait in
     ``<folder>/<NAME>.partial`` until then. A bake that stops resumes from both: columns
@@ -313,7 +366,7 @@ def bake(folder, executor, progress: bool = True) -> Path:
         for f in files:
             f.unlink()
 
-    grids = {grid.prefix: grid for grid in GRIDS}
+    grids = {grid.prefix: grid for grid in GRIDS + PENDING}
     tasks = []
     for grid in grids.values():
         for half, k in grid.columns():
