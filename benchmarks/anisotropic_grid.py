@@ -81,7 +81,8 @@ def compare(columns_of, interface, seed: int = SEED) -> dict:
     none, of the whole grid's."""
     exact = dielectric_slice(*interface)
     # the whole grid at every index ratio on it, below those it is read at too
-    whole = replace(dielectric_grid.GRID, etas=(dielectric_grid.ETA_MIN, np.inf))
+    whole = replace(dielectric_grid.GRID, etas=(dielectric_grid.ETA_MIN, np.inf),
+                    ratios=(0.0, np.inf))
     coarse = dielectric_grid.interpolated_slice(columns_of(dielectric_grid.GRID), *interface,
                                                 grid=whole)
     piece = dielectric_grid.read_slice(columns_of, *interface) or coarse

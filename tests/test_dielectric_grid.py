@@ -2,6 +2,8 @@
 covers the stated ranges at the stated step, a grid point's values are the slice's, and the
 bake keeps finished slices, resumes, and assembles them in grid order."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -180,7 +182,8 @@ def test_interpolated_slice_between_grid_points(interface):
     grid's coordinates comes back to rounding, laid out at the interface's own parts."""
     n_nodes = sum(int(np.prod(p.table.spec.shape[:-1])) for p in _layout(interface))
     values, exact = _quadratic_grid(n_nodes)
-    piece = grid.interpolated_slice(grid.array_columns(values), *interface)
+    whole = replace(grid.GRID, ratios=(0.0, np.inf))  # its first cells too
+    piece = grid.interpolated_slice(grid.array_columns(values), *interface, grid=whole)
     got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
     np.testing.assert_allclose(got, exact(*interface), rtol=0, atol=1e-9)
     assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
@@ -233,6 +236,24 @@ def test_the_matched_patch_interpolates_on_the_critical_cosine(interface):
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
     assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
         (p.segment, p.band, p.lo, p.hi) for p in _layout(interface, refined=True)]
+
+
+def test_the_library_reads_the_grids_where_they_hold_the_interface():
+    """``interpolated``: while ``THIN`` is pending, the library reads an interface from the
+    grids for E_R + E_T exactly where its index ratio is in [1.01, 3] and its roughness ratio
+    at least ``RATIO_INTERPOLATED``, and for E_R where its alpha_max is also at least
+    ``ALPHA_REFLECTION``."""
+    assert grid.THIN in grid.PENDING and grid.THIN not in grid.GRIDS
+    rng = np.random.default_rng(8)
+    alpha = np.concatenate([[0.0, grid.ALPHA_REFLECTION, 2.0], 10 ** rng.uniform(-4, 0.3, 300)])
+    ratio = np.concatenate([[0.0, grid.RATIO_INTERPOLATED, 1.0], 10 ** rng.uniform(-4, 0, 300)])
+    eta = np.concatenate([[grid.ETA_MIN, grid.ETA_INTERPOLATED, grid.ETA_MAX],
+                          rng.uniform(1.0, 3.2, 300)])
+    for a, r, e in zip(alpha, ratio, eta, strict=True):
+        total = bool(grid.ETA_MIN <= e <= grid.ETA_MAX and r >= grid.RATIO_INTERPOLATED)
+        assert grid.interpolated(a, r, e) == total, (a, r, e)
+        assert grid.interpolated(a, r, e, "reflection") == (
+            total and a >= grid.ALPHA_REFLECTION), (a, r, e)
 
 
 def test_the_thin_patch_spans_the_nearly_one_dimensional_ratios():

@@ -217,8 +217,9 @@ class SliceGrid:
         return half, out, q_eta
 
 
-#: the whole grid, in the layout it was baked in
-GRID = SliceGrid({half: tuple((0, a.n - 1) for a in axes) for half, axes in HALVES.items()})
+#: the whole grid, in the layout it was baked in, read from ``RATIO_INTERPOLATED`` up
+GRID = SliceGrid({half: tuple((0, a.n - 1) for a in axes) for half, axes in HALVES.items()},
+                 ratios=(RATIO_INTERPOLATED, np.inf))
 #: the rough, nearly index-matched corner in the refined layout: there, seen from the dense
 #: side near mu = 1 / eta where the energy peaks, the grid's layout misses by up to 1.3e-2
 #: (alpha 2, ratio 1, eta 1.031; ``benchmarks.anisotropic_grid``'s extremes). Read for
@@ -481,11 +482,18 @@ def _shipped_columns(grid: SliceGrid = GRID):
 def interpolated(alpha: float, ratio: float, eta: float, channel: str = "total") -> bool:
     """Whether the library reads the slice of an interface of roughness ``alpha``
     (alpha_max), roughness ratio ``ratio`` and index ratio ``eta`` from the grids for
-    ``channel`` (E_R + E_T "total" or E_R "reflection"): eta in [``ETA_MIN``, ``ETA_MAX``]
-    (below ``ETA_INTERPOLATED`` from ``MATCHED``), ratio >= ``RATIO_INTERPOLATED`` and, for
-    E_R, alpha >= ``ALPHA_REFLECTION``; elsewhere it computes the slice."""
-    return (ETA_MIN <= eta <= ETA_MAX and ratio >= RATIO_INTERPOLATED
-            and (channel == "total" or alpha >= ALPHA_REFLECTION))
+    ``channel`` (E_R + E_T "total" or E_R "reflection"): eta in [``ETA_MIN``, ``ETA_MAX``],
+    one of ``GRIDS`` holds it (``SliceGrid.stencils``: below ``ETA_INTERPOLATED``
+    ``MATCHED``, from ``RATIO_INTERPOLATED`` up the grid) and, for E_R, alpha >=
+    ``ALPHA_REFLECTION``; elsewhere it computes the slice."""
+    return ((channel == "total" or alpha >= ALPHA_REFLECTION)
+            and _held(float(alpha), float(ratio), float(eta)))
+
+
+@functools.lru_cache(maxsize=4096)
+def _held(alpha: float, ratio: float, eta: float) -> bool:
+    return ETA_MIN <= eta <= ETA_MAX and any(
+        grid.stencils(alpha, ratio, eta) is not None for grid in GRIDS)
 
 
 def read_slice(columns_of, alpha: float, ratio: float, eta: float,
