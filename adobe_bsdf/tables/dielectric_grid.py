@@ -263,7 +263,7 @@ def _thin_axis() -> Axis:
 #: at every roughness and index-ratio node of the grid (read from ``ETA_INTERPOLATED``) on an
 #: axis in ln(ratio + 1e-5) at a step of 0.6 (16 nodes, 3808 slices). Probed before choosing
 #: it (alpha 0.3 to 2, eta 1.05 and 1.5): at fixed slice coordinates within 5e-4 of the node
-#: values (a step of 1.0: up to 2e-2), and its slices as close to the node integrator as the
+#: values (a step of 1.0: up to 4.7e-3), and its slices as close to the node integrator as the
 #: computed ones. Baked by ``bake`` with the others (files ``thin-<half>_<k>.npz``); the
 #: library reads it once it is shipped whole (``PENDING``).
 THIN = SliceGrid({half: ((0, axes[0].n - 1), (0, _thin_axis().n - 1), (0, axes[2].n - 1))
