@@ -209,33 +209,39 @@ def test_the_refined_patch_interpolates_in_its_own_layout(interface):
         grid.array_columns(values), *interface).n_nodes
 
 
+def _reproduces_a_quadratic(patch, interface, coordinates):
+    """The slice that ``patch`` interpolates at ``interface`` from node values quadratic in
+    its axes' coordinates (``coordinates(alpha, ratio, eta)``: the three) is that quadratic
+    to rounding, laid out refined at the interface's own parameters."""
+    half = "below" if interface[2] < np.sqrt(2.0) else "above"
+    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1]))
+                  for p in _layout(interface, refined=True))
+    coefficients = np.random.default_rng(5).normal(size=(9, n_nodes, 2))
+
+    def basis(x, y, z):
+        return np.stack([np.ones_like(x), x, y, z, x * x, y * y, z * z, x * y, y * z], -1)
+    q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
+                      in zip(patch.axes(half), patch.spans[half], strict=True)], indexing="ij")
+    values = {half: np.einsum("abcj,jnk->abcnk", basis(*q), coefficients)}
+    piece = grid.interpolated_slice(grid.array_columns(values), *interface, grid=patch)
+    want = np.tensordot(basis(*map(np.asarray, coordinates(*interface))), coefficients,
+                        axes=(0, 0))
+    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+    assert [(p.segment, p.band, p.lo, p.hi, p.ratio) for p in piece.parts] == [
+        (p.segment, p.band, p.lo, p.hi, p.ratio) for p in _layout(interface, refined=True)]
+
+
 @pytest.mark.parametrize("interface", [(0.37, 0.21, 1.0101), (1.9, 0.04, 1.025),
                                        (0.0, 1.0, 1.01), (0.004, 0.6, 1.03)])
 def test_the_matched_patch_interpolates_on_the_critical_cosine(interface):
     """Between index ratios 1.01 and ``ETA_INTERPOLATED`` ``MATCHED`` interpolates on its
     own axis, uniform in the critical cosine: a quadratic in (q_alpha, q_ratio, mu_c) over
     its points comes back to rounding, laid out refined at the interface's own index."""
-    patch = grid.MATCHED
-    assert patch.stencils(*interface) is not None
-    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1]))
-                  for p in _layout(interface, refined=True))
-    coefficients = np.random.default_rng(5).normal(size=(7, n_nodes, 2))
-
-    def basis(qa, qr, mc):
-        return np.stack([np.ones_like(qa), qa, qr, mc, qa * qa, qr * mc, mc * mc], -1)
-    q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
-                      in zip(patch.axes("below"), patch.spans["below"], strict=True)],
-                    indexing="ij")
-    values = {"below": np.einsum("abcj,jnk->abcnk", basis(*q), coefficients)}
-    piece = grid.interpolated_slice(grid.array_columns(values), *interface, grid=patch)
-    alpha, ratio, eta = interface
-    want = np.tensordot(basis(np.log(alpha + grid.ALPHA_OFFSET),
-                              np.log(ratio + grid.RATIO_OFFSET),
-                              grid.critical_cosine(eta)), coefficients, axes=(0, 0))
-    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
-    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
-    assert [(p.segment, p.band, p.lo, p.hi) for p in piece.parts] == [
-        (p.segment, p.band, p.lo, p.hi) for p in _layout(interface, refined=True)]
+    assert grid.MATCHED.stencils(*interface) is not None
+    _reproduces_a_quadratic(grid.MATCHED, interface, lambda alpha, ratio, eta: (
+        np.log(alpha + grid.ALPHA_OFFSET), np.log(ratio + grid.RATIO_OFFSET),
+        grid.critical_cosine(eta)))
 
 
 def test_the_library_reads_the_grids_where_they_hold_the_interface():
@@ -282,25 +288,9 @@ def test_the_thin_patch_spans_the_nearly_one_dimensional_ratios():
 def test_the_thin_patch_interpolates_in_the_log_of_the_ratio(interface):
     """A quadratic in (q_alpha, ln(ratio + 1e-5), q_eta) over ``THIN``'s points comes back to
     rounding, laid out refined at the interface's own roughness ratio."""
-    thin = grid.THIN
-    half = "below" if interface[2] < np.sqrt(2.0) else "above"
-    n_nodes = sum(int(np.prod(p.table.spec.shape[:-1]))
-                  for p in _layout(interface, refined=True))
-    coefficients = np.random.default_rng(6).normal(size=(7, n_nodes, 2))
-
-    def basis(qa, qr, qe):
-        return np.stack([np.ones_like(qa), qa, qr, qe, qa * qr, qr * qr, qe * qe], -1)
-    q = np.meshgrid(*[a.nodes()[lo:hi + 1] for a, (lo, hi)
-                      in zip(thin.axes(half), thin.spans[half], strict=True)], indexing="ij")
-    values = {half: np.einsum("abcj,jnk->abcnk", basis(*q), coefficients)}
-    piece = grid.interpolated_slice(grid.array_columns(values), *interface, grid=thin)
-    alpha, ratio, eta = interface
-    want = np.tensordot(basis(np.log(alpha + grid.ALPHA_OFFSET), grid.thin_coordinate(ratio),
-                              np.log(eta - 1.0 + grid.ETA_OFFSET)), coefficients, axes=(0, 0))
-    got = np.concatenate([p.table.values.reshape(-1, 2) for p in piece.parts])
-    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
-    assert [(p.segment, p.band, p.lo, p.hi, p.ratio) for p in piece.parts] == [
-        (p.segment, p.band, p.lo, p.hi, p.ratio) for p in _layout(interface, refined=True)]
+    _reproduces_a_quadratic(grid.THIN, interface, lambda alpha, ratio, eta: (
+        np.log(alpha + grid.ALPHA_OFFSET), grid.thin_coordinate(ratio),
+        np.log(eta - 1.0 + grid.ETA_OFFSET)))
 
 
 @pytest.mark.parametrize("interface", [(0.5, 0.3, 1.031), (0.9, 0.02, 1.02),
