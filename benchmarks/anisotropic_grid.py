@@ -384,7 +384,8 @@ def measure(smoke: bool = False, path: Path | None = None) -> dict:
     extremes = EXTREMES[:1] if smoke else EXTREMES
     rows = [(c, compare(grid, c)) for c in cases + extremes]
     result = {"rows": rows, "n_random": len(cases), "path": path.name,
-              "bytes": sum(f.stat().st_size for f in path.glob("*.npz"))}
+              "bytes": _bytes(path, dielectric_grid.GRIDS),
+              "pending": _bytes(path, dielectric_grid.PENDING)}
     result["bake"] = bake_cost(SMOKE_BAKE_POINTS if smoke else BAKE_POINTS)
     result["slices"] = [] if smoke else computed_slices()  # minutes: not in the smoke run
     result["beyond"] = [] if smoke else measure_beyond_tables()
@@ -489,7 +490,7 @@ def markdown(result: dict, seconds: float) -> str:
             "grid and computes the slice for E_R alone (the E_R rows of the first table leave "
             "those interfaces out).", "",
             f"The grid's files ({result['path']}/, one per index ratio, the patches' too): "
-            f"{_size(result['bytes'])}."]
+            f"{_size(result['bytes'])}.{_pending(result)}"]
     if "costs" in result:
         out += ["", "## Cost", "", "| lobe | eval / isotropic | sample / isotropic |",
                 "|---|---|---|"]
@@ -506,6 +507,21 @@ def markdown(result: dict, seconds: float) -> str:
 
 #: the page whose measured block ``summary`` rewrites, and the block's name
 SUMMARY_PAGE, SUMMARY = "energy_models.md", "anisotropic_grid"
+
+
+def _bytes(path: Path, grids) -> int:
+    """Bytes of the columns of ``grids`` stored in ``path`` (of a pending grid, those baked
+    so far)."""
+    files = [dielectric_grid.column_file(path, h, k, g) for g in grids for h, k in g.columns()]
+    return sum(f.stat().st_size for f in files if f.exists())
+
+
+def _pending(result: dict) -> str:
+    """What the pending grids' columns shipped so far add (the wheel carries them too)."""
+    if not result.get("pending"):
+        return ""
+    return (f" The pending grids' columns baked so far (`dielectric_grid.PENDING`, not yet "
+            f"read) add {result['pending'] / 1e6:.2f} MB.")
 
 
 def _size(n_bytes: int) -> str:
@@ -535,7 +551,7 @@ def summary(result: dict) -> str:
                 f"{len(result['slices'])} interfaces, nearly one-dimensional and nearly "
                 f"index-matched among them: E_R + E_T within {worst:.1e} for cos θ ≥ 1e-3; "
                 f"it takes up to {slowest:.0f} s, once per interface."]
-    out += ["", f"The grid's files: {_size(result['bytes'])}."]
+    out += ["", f"The grid's files: {_size(result['bytes'])}.{_pending(result)}"]
     if "costs" in result:
         out[-1] += (" Cost against the isotropic counterparts, `eval` / `sample`: "
                     + "; ".join(f"{name} {e:.2f}× / {s:.2f}×"
