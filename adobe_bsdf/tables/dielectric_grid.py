@@ -266,9 +266,10 @@ def _thin_axis() -> Axis:
 #: values (a step of 1.0: up to 4.7e-3), and its slices as close to the node integrator as the
 #: computed ones. Baked by ``bake`` with the others (files ``thin-<half>_<k>.npz``); the
 #: library reads it once it is shipped whole (``PENDING``).
-THIN = SliceGrid({half: ((0, axes[0].n - 1), (0, _thin_axis().n - 1), (0, axes[2].n - 1))
+_THIN_AXIS = _thin_axis()
+THIN = SliceGrid({half: ((0, axes[0].n - 1), (0, _THIN_AXIS.n - 1), (0, axes[2].n - 1))
                   for half, axes in HALVES.items()}, refined=True, prefix="thin-",
-                 thin=_thin_axis(), ratios=(0.0, RATIO_INTERPOLATED))
+                 thin=_THIN_AXIS, ratios=(0.0, RATIO_INTERPOLATED))
 #: grids declared and baked (``bake``) that the library does not read yet: each joins
 #: ``GRIDS`` once every column of it is shipped
 PENDING = (THIN,)
