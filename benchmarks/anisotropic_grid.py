@@ -267,6 +267,67 @@ def _slice_lines(rows) -> list[str]:
     return out
 
 
+#: interfaces (alpha, ratio, eta) whose light side's E_R alone is read from the grid with and
+#: without its Fresnel share: from ``ALPHA_REFLECTION`` up (read), and below it (computed)
+SHARE_CHECKS = [(0.0157, 0.037, 3.0), (0.02, 0.5, 1.05), (0.05, 0.04, 1.5), (0.1, 0.05, 2.0),
+                (0.3, 0.3, 1.5), (1.0, 0.5, 1.2), (2.0, 0.9, 2.5), (0.002, 0.9, 1.05),
+                (0.003, 0.5, 1.5), (0.008, 0.9, 1.05), (0.012, 0.05, 2.6)]
+
+
+def share_rows(columns_of, checks=SHARE_CHECKS) -> list:
+    """``[(interface, with share, without, E_R + E_T)]``: the largest error of the light
+    side's E_R read from the grids ``columns_of`` gives (``dielectric_grid.read_slice``
+    of E_R + E_T: the grid, wherever it holds the interface), interpolated less its Fresnel
+    share and as it is (the share weighted to 0), and of E_R + E_T, against the stretched
+    node integrator at order ``CHECK_ORDER`` over ``CHECK_MU`` x ``CHECK_COS_PHI``."""
+    from adobe_bsdf.tables import dielectric_slices
+    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
+
+    mu, c = (a.ravel() for a in np.meshgrid(CHECK_MU, CHECK_COS_PHI, indexing="ij"))
+    rows = []
+    for alpha, ratio, eta in checks:
+        e = ggx_anisotropic_dielectric_energy(mu, np.arccos(c), alpha, alpha * ratio, eta,
+                                              CHECK_ORDER, estimate=False)
+        errors = []
+        for weight in (dielectric_slices.FRESNEL_SHARE_ROUGHNESS, 0.0):
+            default, dielectric_slices.FRESNEL_SHARE_ROUGHNESS = (
+                dielectric_slices.FRESNEL_SHARE_ROUGHNESS, weight)
+            try:
+                with np.errstate(divide="ignore"):  # weight 0: the share is 0
+                    got = dielectric_grid.read_slice(columns_of, alpha, ratio, eta)(
+                        True, mu, c)
+            finally:
+                dielectric_slices.FRESNEL_SHARE_ROUGHNESS = default
+            errors.append(float(np.abs(got[:, 0] - e.reflection).max()))
+        total = float(np.abs(got.sum(-1) - e.reflection - e.transmission).max())
+        rows.append(((alpha, ratio, eta), *errors, total))
+    return rows
+
+
+def _share_lines(rows) -> list[str]:
+    if not rows:
+        return []
+    from adobe_bsdf.tables import dielectric_slices
+
+    out = ["", "## The light side's Fresnel share", "",
+           "E_R alone of the light side (an opaque dielectric's specular albedo) is "
+           "interpolated, across the grid's points and within a slice, less its Fresnel share "
+           "g = F(cos θ) / (1 + (alpha_phi / "
+           f"{dielectric_slices.FRESNEL_SHARE_ROUGHNESS:g})^2) "
+           "(`dielectric_slices.fresnel_share`), which the slice adds back. Largest error "
+           f"over the directions of the section below, against the node integrator at order "
+           f"{CHECK_ORDER}; the library reads E_R from the grid from alpha_max "
+           f"{dielectric_grid.ALPHA_REFLECTION:.3g} (`dielectric_grid.ALPHA_REFLECTION`) and "
+           "computes it below:", "",
+           "| interface (alpha, ratio, eta) | E_R read by the library | E_R, share taken out "
+           "| E_R as it is | E_R + E_T |", "|---|---|---|---|---|"]
+    for (a, r, e), share, plain, total in rows:
+        read = "grid" if a >= dielectric_grid.ALPHA_REFLECTION else "computed"
+        out.append(f"| ({a:g}, {r:g}, {e:g}) | {read} | {share:.1e} | {plain:.1e} | "
+                   f"{total:.1e} |")
+    return out
+
+
 #: where a dispersive glass's channel index is largest (ior 3, dispersion 1), and the alphas,
 #: ratios and cosines of ``measure_beyond_tables``
 BEYOND_IOR, BEYOND_DISPERSION = 3.0, 1.0
@@ -393,6 +454,7 @@ def measure(smoke: bool = False, path: Path | None = None) -> dict:
         result["costs"] = costs()
         result["first_use"] = {name: first_use(*lobe) for name, lobe in FIRST_USES.items()}
         result["limit"] = limit_rows()
+    result["share"] = share_rows(grid, SHARE_CHECKS[:2] if smoke else SHARE_CHECKS)
     return result
 
 
@@ -499,6 +561,7 @@ def markdown(result: dict, seconds: float) -> str:
         out += ["", "First use in a fresh process (the columns it needs loaded, the lobe "
                 "built and evaluated): " + _first_uses(result["first_use"]) + "."]
     out += _limit_lines(result.get("limit", []))
+    out += _share_lines(result.get("share", []))
     out += _slice_lines(result["slices"])
     out += markdown_beyond_tables(result["beyond"])
     out += _bake_lines(result["bake"])

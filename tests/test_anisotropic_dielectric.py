@@ -150,6 +150,18 @@ def _directions_by_steps(part, x, u):
     return mu, c
 
 
+def test_slice_reproduces_its_node_values(piece):
+    """At the light side's nodes the slice reads the integrator's own values (the table
+    through its nodes, the Fresnel share taken out and put back), E_R and E_T apart."""
+    part = piece.parts[0]
+    mu, c = (a.ravel() for a in part.directions(*part.table.spec.grid()))
+    want = dielectric_slices.node_energy(piece.alpha, piece.ratio, piece.eta, mu, c,
+                                         np.ones(mu.shape, bool))
+    np.testing.assert_allclose(piece(True, mu, c), want, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(piece.channel("reflection", True, mu, c), want[:, 0], rtol=0,
+                               atol=1e-12)
+
+
 def test_slice_directions_stop_at_their_fixed_points(piece):
     """The node directions stop iterating where a point has reached its fixed point: the
     same bits as every step over every point."""
@@ -162,8 +174,9 @@ def test_slice_directions_stop_at_their_fixed_points(piece):
 
 def test_slice_lookup_reads_the_covering_part(piece):
     """One pass that assigns each direction its part reads, bit for bit, the table of the
-    part whose ``covers`` holds (the declared partition); the one-output channels are the
-    sum and E_R of the two-output lookup, to rounding."""
+    part whose ``covers`` holds (the declared partition; the light side's plus its Fresnel
+    share); the one-output channels are the sum and E_R of the two-output lookup, to
+    rounding."""
     rng = np.random.default_rng(5)
     n = 4000
     mu, c = rng.uniform(0.0, 1.0, n), rng.uniform(0.0, 1.0, n)
@@ -175,6 +188,8 @@ def test_slice_lookup_reads_the_covering_part(piece):
     for part in piece.parts:
         mask = on_light if part.segment == "outside" else ~on_light & part.covers(mu, c)
         want[mask] = part.table(*part.coordinates(mu[mask], c[mask]))
+    g = dielectric_slices.fresnel_share(piece.alpha, piece.ratio, piece.eta, mu, c)
+    want[on_light] += g[on_light, None] * np.array([1.0, -1.0])
     got = piece(on_light, mu, c)
     np.testing.assert_array_equal(got, want)
     np.testing.assert_allclose(piece.channel("total", on_light, mu, c), want.sum(-1),

@@ -82,6 +82,7 @@ from adobe_bsdf.tables.dielectric_slices import (
     assembled,
     filled,
     layout,
+    light_share,
     node_directions,
     node_energy,
 )
@@ -129,10 +130,13 @@ HALVES = {"below": _axes(ETA_MIN, _ROOT2 * (1.0 - SQRT2_GAP)),
 ETA_INTERPOLATED = float(1.0 + np.exp(HALVES["below"][2].nodes()[1]) - ETA_OFFSET)
 RATIO_INTERPOLATED = float(np.exp(HALVES["below"][1].nodes()[2]) - RATIO_OFFSET)
 #: the least alpha_max whose E_R alone the library reads from the grid (the grid's third
-#: roughness node). Below it, at cosines above the roughness, E_R follows the smooth
-#: interface's Fresnel factor, which falls from 1 at grazing faster than the layout's nodes
-#: there resolve (E_R + E_T, 1 there, does not): the grid misses E_R by several times 1e-2
-#: (``benchmarks.anisotropic_grid``'s column "light E_R"), and the white opaque ASM
+#: roughness node). The grid interpolates the light side's E_R less its Fresnel share
+#: (``dielectric_slices.fresnel_share``: E_R of a nearly smooth interface follows F, which
+#: falls from 1 at grazing faster than the layout's nodes resolve), but near grazing, at
+#: fixed slice coordinates, that residual grows from alpha 0 as about alpha^0.8, which the
+#: cubic stencil from the first node does not follow (E_R + E_T, smooth there, it does):
+#: below the third node it misses E_R by up to several times 1e-3 at cos theta 1e-3
+#: (``benchmarks.anisotropic_grid``, "The light side's Fresnel share"), and the white opaque ASM
 #: dielectric, whose diffuse takes 1 - E_R, would lose as much. There E_R (and its average)
 #: comes from the computed slice.
 ALPHA_REFLECTION = float(np.exp(HALVES["below"][0].nodes()[2]) - ALPHA_OFFSET)
@@ -447,8 +451,10 @@ def interpolated_slice(column, alpha: float, ratio: float, eta: float,
     """The slice of (alpha_max ``alpha`` in [0, ``ALPHA_MAX``], ``ratio`` in [0, 1], index
     ratio ``eta``) from ``grid``, whose columns ``column(half, k)`` gives
     (``stored_columns``, ``array_columns``): every node's value interpolated across the
-    4 x 4 x 4 grid points around it (only those four columns read), the parts laid out at the
-    grid's eta (the interface's own, except within ``SQRT2_GAP`` of sqrt 2); None where
+    4 x 4 x 4 grid points around it (only those four columns read), on the light side less
+    each point's own Fresnel share (``light_share``; the slice adds the interface's), the
+    parts laid out at the grid's eta (the interface's own, except within ``SQRT2_GAP`` of
+    sqrt 2); None where
     ``eta`` is outside [``ETA_MIN``, ``ETA_MAX``] or the stencil outside ``grid``."""
     alpha, ratio, eta = float(alpha), float(ratio), float(eta)
     if not ETA_MIN <= eta <= ETA_MAX:
@@ -457,11 +463,32 @@ def interpolated_slice(column, alpha: float, ratio: float, eta: float,
     if found is None:
         return None
     half, ((ia, wa), (ir, wr), (ie, we)), q_eta = found
-    block = np.stack([column(half, int(k))[np.ix_(ia, ir)] for k in ie])
-    values = np.einsum("e,a,r,earnc->nc", we, wa, wr, block)
+    block = np.stack([column(half, int(k))[np.ix_(ia, ir)] for k in ie]).astype(np.float64)
+    shares = _light_shares(grid, half, ia, ir, ie)
+    n = shares.shape[-2]
+    block[..., :n, :] -= shares
+    residual = np.einsum("e,a,r,earnc->nc", we, wa, wr, block)
     eta_grid = eta if grid.mu_c is not None else 1.0 + np.exp(q_eta) - ETA_OFFSET
-    parts = filled(layout(alpha, ratio, eta_grid, refined=grid.refined), values)
-    return assembled(alpha, ratio, eta, parts)
+    parts = filled(layout(alpha, ratio, eta_grid, refined=grid.refined), residual)
+    return assembled(alpha, ratio, eta, parts, residual=True)
+
+
+def _light_shares(grid: SliceGrid, half: str, ia, ir, ie) -> np.ndarray:
+    """``(e, a, r, n_light, 2)``: ``light_share`` of the grid points (node indices ``ia``,
+    ``ir``, ``ie`` of ``grid``'s half) at their light side's nodes: what their node values
+    hold beyond what the grid interpolates (the light side's Fresnel share,
+    ``dielectric_slices.fresnel_share``, a function of each point's own coordinates)."""
+    alphas, ratios, etas = _axis_values(grid, half)
+    return np.stack([np.stack([np.stack([
+        light_share(max(alphas[i], ALPHA_LIMIT), ratios[j], etas[k], grid.refined)
+        for j in ir]) for i in ia]) for k in ie])
+
+
+@functools.cache
+def _axis_values(grid: SliceGrid, half: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(alpha, ratio, eta) of ``grid``'s node indices along each axis of ``half``."""
+    points = grid.points(half).reshape(*grid.shape(half), 3)
+    return points[:, 0, 0, 0], points[0, :, 0, 1], points[0, 0, :, 2]
 
 
 def _path() -> Path:

@@ -65,6 +65,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.special import roots_legendre
 
+from adobe_bsdf.fresnel import _dielectric
 from adobe_bsdf.tables.anisotropic_energy import (
     ALPHA_FLOOR,
     blended,
@@ -76,7 +77,7 @@ from adobe_bsdf.tables.table import Axis, Table, TableSpec, horner
 
 __all__ = ["DielectricSlice", "dielectric_slice", "SLICE_ORDER", "SLICE_NODES",
            "SLICE_NODE_ERROR", "layout", "node_directions", "node_energy", "filled",
-           "assembled"]
+           "assembled", "fresnel_share", "light_share", "FRESNEL_SHARE_ROUGHNESS"]
 
 #: Gauss–Legendre order of the slice's nodes
 SLICE_ORDER = 8
@@ -111,6 +112,9 @@ _EDGES = (_KINK_EDGE, _KINK_EDGE)
 #: alpha (a nearly one-dimensional surface's energy turns at |cos phi| ~ mu / alpha, and
 #: above a boundary layer thinner than that it still varies with mu)
 _REFINED_AXIS_EDGE, _BLEND_FLOOR = 1e-4, 3e-4
+#: the projected roughness below which the light side's tables hold E_R and E_T less and more
+#: the smooth interface's reflectance (``fresnel_share``)
+FRESNEL_SHARE_ROUGHNESS = 0.2
 #: log scale of the light side's axis in s = 1 - sqrt(1 - v) (``Axis``: the larger, the more
 #: nodes towards grazing)
 _OUTSIDE_LOG_SCALE = 0.03
@@ -357,6 +361,45 @@ def filled(parts, values: np.ndarray, error: float = SLICE_NODE_ERROR) -> tuple:
     return tuple(out)
 
 
+def fresnel_share(alpha: float, ratio: float, eta: float, mu, cos_phi) -> np.ndarray:
+    """g = F(mu) / (1 + (alpha_phi / ``FRESNEL_SHARE_ROUGHNESS``)^2): the reflectance of the
+    smooth interface of index ratio ``eta`` seen from the light side, weighted down where the
+    projected roughness alpha_phi (``projected_alpha``) smooths it. Of a nearly smooth
+    interface E_R follows F above the boundary layer, and F falls from 1 at grazing faster
+    than the light side's nodes there resolve (by several times 1e-2); E_R - g and E_T + g
+    (E_T ~ 1 - F) vary only on the boundary layer's scale, which they resolve. Of a rough one
+    E_R is smoother than F, and subtracting F would add its fall back (``benchmarks.
+    anisotropic_grid``, "The light side's Fresnel share")."""
+    a = projected_alpha(cos_phi, max(float(alpha), ALPHA_FLOOR), float(ratio))
+    return _dielectric(np.asarray(mu, dtype=np.float64), float(eta)) / (
+        1.0 + np.square(a / FRESNEL_SHARE_ROUGHNESS))
+
+
+@functools.lru_cache(maxsize=1024)
+def _light_nodes(alpha: float, ratio: float, refined: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(mu, |cos phi|) of the light side's nodes (they do not depend on eta), in C order."""
+    part = _part("outside", "outside", alpha, ratio, 1.5, 0.0, refined=refined)
+    mu, c = part.directions(*part.table.spec.grid())
+    return mu.ravel(), np.broadcast_to(c, mu.shape).ravel()
+
+
+def light_share(alpha: float, ratio: float, eta: float, refined: bool) -> np.ndarray:
+    """``(n, 2)``: (g, -g), g the ``fresnel_share`` at the light side's nodes of the
+    ``layout``, to add to its node values (E_R, E_T) (and subtract for what the slice
+    interpolates)."""
+    mu, c = _light_nodes(float(alpha), float(ratio), bool(refined))
+    return fresnel_share(alpha, ratio, eta, mu, c)[:, None] * np.array([1.0, -1.0])
+
+
+def _shifted(part: _Part, alpha: float, ratio: float, eta: float) -> _Part:
+    """The light side's ``part`` with its tables holding (E_R - g, E_T + g), g the
+    ``fresnel_share`` at its nodes: what the slice interpolates."""
+    spec = part.table.spec
+    values = part.table.values - light_share(alpha, ratio, eta, part.refined).reshape(
+        spec.shape)
+    return replace(part, table=Table(spec, values, part.table.errors))
+
+
 def _computed(part: _Part, eta: float) -> _Part:
     """``part`` (of index ratio ``eta``) with its table's nodes computed."""
     spec = part.table.spec
@@ -365,10 +408,11 @@ def _computed(part: _Part, eta: float) -> _Part:
     return filled((part,), values.reshape(-1, 2))[0]
 
 
-def _average(part: _Part) -> np.ndarray:
+def _average(part: _Part, share=None) -> np.ndarray:
     """(1 / pi) int E cos dw over the directions of ``part``, ``(2,)``: Gauss–Legendre on
-    every cell of its interpolant in (x, w = arccos u), the Jacobian of (x, w) -> (mu, phi)
-    by central differences (both smooth within a part)."""
+    every cell of its interpolant in (x, w = arccos u) (plus (g, -g), g = ``share(mu,
+    |cos phi|)``), the Jacobian of (x, w) -> (mu, phi) by central differences (all smooth
+    within a part)."""
     x_axis, u_axis = part.table.spec.axes
     g, w = roots_legendre(_AVERAGE_ORDER)
     g, w = 0.5 * (g + 1.0), 0.5 * w
@@ -390,13 +434,17 @@ def _average(part: _Part) -> np.ndarray:
     jacobian = np.abs((m1 - m0) * (q1 - q0) - (p1 - p0) * (n1 - n0)) / (4.0 * h * h)
     mu, _ = angles(X, W)
     E = part.table(X, np.cos(W))
+    if share is not None:
+        E = E + share(mu, np.cos(W))[..., None] * np.array([1.0, -1.0])
     return (4.0 / np.pi) * np.einsum("ij,ij,ij,ijk->k", weight, mu, jacobian, E)
 
 
 @dataclass(frozen=True)
 class DielectricSlice:
     """E_R, E_T of the anisotropic interface (alpha_max ``alpha``, alpha_min ``ratio``
-    alpha, index ratio ``eta`` >= 1) seen from either side, and their averages."""
+    alpha, index ratio ``eta`` >= 1) seen from either side, and their averages. The light
+    side's part holds (E_R - g, E_T + g), g = ``fresnel_share`` (``assembled``), which the
+    lookups add back."""
 
     alpha: float
     ratio: float
@@ -408,7 +456,8 @@ class DielectricSlice:
     def __call__(self, on_light, mu, cos_phi) -> np.ndarray:
         """``(..., 2)`` (E_R, E_T) at cosine ``mu`` and |cos phi| ``cos_phi`` (broadcast),
         seen from the light side where ``on_light``."""
-        return self._lookup(on_light, mu, cos_phi, False)
+        E = self._lookup(on_light, mu, cos_phi, False)
+        return E + self._share(on_light, mu, cos_phi)[..., None] * np.array([1.0, -1.0])
 
     def error(self, on_light, mu, cos_phi) -> np.ndarray:
         """The node error carried to the same points (``Table.error``)."""
@@ -446,7 +495,17 @@ class DielectricSlice:
                                                                cos_phi[here])
         value = horner(lambda p: horner(lambda q: np.take(coefficients[p, q], cell), t_u),
                        t_x)
+        if name == "reflection":
+            value = value + self._share(on_light, mu, cos_phi)
         return value.reshape(shape)
+
+    def _share(self, on_light, mu, cos_phi) -> np.ndarray:
+        """``fresnel_share`` where ``on_light``, 0 elsewhere (broadcast)."""
+        on_light, mu, cos_phi = np.broadcast_arrays(on_light, mu, cos_phi)
+        g = np.zeros(mu.shape)
+        g[on_light] = fresnel_share(self.alpha, self.ratio, self.eta, mu[on_light],
+                                    cos_phi[on_light])
+        return g
 
     @functools.cached_property
     def _cells(self) -> dict:
@@ -534,11 +593,16 @@ class DielectricSlice:
         return which
 
 
-def assembled(alpha: float, ratio: float, eta: float, parts) -> DielectricSlice:
-    """The ``DielectricSlice`` of filled ``parts``, with their averages (``_average``)."""
+def assembled(alpha: float, ratio: float, eta: float, parts,
+              residual: bool = False) -> DielectricSlice:
+    """The ``DielectricSlice`` of filled ``parts`` (the light side's ``_shifted``, unless
+    ``residual``: it holds E - (g, -g) already), with their averages (``_average``)."""
+    alpha, ratio, eta = float(alpha), float(ratio), float(eta)
+    outside = parts[0] if residual else _shifted(parts[0], alpha, ratio, eta)
     inside = sum(_average(part) for part in parts[1:])
-    return DielectricSlice(float(alpha), float(ratio), float(eta), tuple(parts),
-                           _average(parts[0]), inside)
+    return DielectricSlice(alpha, ratio, eta, (outside, *parts[1:]),
+                           _average(outside, functools.partial(fresnel_share, alpha, ratio,
+                                                               eta)), inside)
 
 
 @functools.lru_cache(maxsize=CACHED_SLICES)
