@@ -293,9 +293,7 @@ def share_rows(columns_of, checks=SHARE_CHECKS) -> list:
             default, dielectric_slices.FRESNEL_SHARE_ROUGHNESS = (
                 dielectric_slices.FRESNEL_SHARE_ROUGHNESS, weight)
             try:
-                with np.errstate(divide="ignore"):  # weight 0: the share is 0
-                    got = dielectric_grid.read_slice(columns_of, alpha, ratio, eta)(
-                        True, mu, c)
+                got = dielectric_grid.read_slice(columns_of, alpha, ratio, eta)(True, mu, c)
             finally:
                 dielectric_slices.FRESNEL_SHARE_ROUGHNESS = default
             errors.append(float(np.abs(got[:, 0] - e.reflection).max()))
