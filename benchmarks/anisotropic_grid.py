@@ -214,6 +214,16 @@ CHECK_COS_PHI = (0.0, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 0.6, 0.9, 1.
 CHECK_ORDER = 12
 
 
+def _checked(alpha: float, ratio: float, eta_seen: float):
+    """``(mu, |cos phi|, energy)``: the stretched node integrator at order ``CHECK_ORDER``
+    over ``CHECK_MU`` x ``CHECK_COS_PHI``, seen through index ratio ``eta_seen``."""
+    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
+
+    mu, c = (a.ravel() for a in np.meshgrid(CHECK_MU, CHECK_COS_PHI, indexing="ij"))
+    return mu, c, ggx_anisotropic_dielectric_energy(mu, np.arccos(c), alpha, alpha * ratio,
+                                                    eta_seen, CHECK_ORDER, estimate=False)
+
+
 def computed_slices(checks=SLICE_CHECKS) -> list:
     """``[(interface, {layout: (light max, dense max, seconds)})]``: the largest |E_R + E_T|
     error of the slice computed in the grid's layout and in the refined one (the library's:
@@ -221,17 +231,13 @@ def computed_slices(checks=SLICE_CHECKS) -> list:
     ``CHECK_ORDER`` over ``CHECK_MU`` x ``CHECK_COS_PHI`` from both sides, and the seconds
     each slice took (one thread)."""
     import adobe_bsdf as ab
-    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
 
-    mu, c = (a.ravel() for a in np.meshgrid(CHECK_MU, CHECK_COS_PHI, indexing="ij"))
     rows = []
     with ab.config.options(threads=1):
         for alpha, ratio, eta in checks:
             ref = {}
             for on_light in (True, False):
-                e = ggx_anisotropic_dielectric_energy(
-                    mu, np.arccos(c), alpha, alpha * ratio, eta if on_light else 1.0 / eta,
-                    CHECK_ORDER, estimate=False)
+                mu, c, e = _checked(alpha, ratio, eta if on_light else 1.0 / eta)
                 ref[on_light] = e.reflection + e.transmission
             out = {}
             for name, refined in (("grid layout", False), ("refined", True)):
@@ -281,13 +287,10 @@ def share_rows(columns_of, checks=SHARE_CHECKS) -> list:
     share and as it is (the share weighted to 0), and of E_R + E_T, against the stretched
     node integrator at order ``CHECK_ORDER`` over ``CHECK_MU`` x ``CHECK_COS_PHI``."""
     from adobe_bsdf.tables import dielectric_slices
-    from adobe_bsdf.tables.anisotropic_energy import ggx_anisotropic_dielectric_energy
 
-    mu, c = (a.ravel() for a in np.meshgrid(CHECK_MU, CHECK_COS_PHI, indexing="ij"))
     rows = []
     for alpha, ratio, eta in checks:
-        e = ggx_anisotropic_dielectric_energy(mu, np.arccos(c), alpha, alpha * ratio, eta,
-                                              CHECK_ORDER, estimate=False)
+        mu, c, e = _checked(alpha, ratio, eta)
         errors = []
         for weight in (dielectric_slices.FRESNEL_SHARE_ROUGHNESS, 0.0):
             default, dielectric_slices.FRESNEL_SHARE_ROUGHNESS = (
