@@ -241,8 +241,8 @@ def computed_slices(checks=SLICE_CHECKS) -> list:
     """``[(interface, {layout: (light max, dense max, seconds)})]``: the largest |E_R + E_T|
     error of the slice computed in the grid's layout and in the refined one (the library's:
     ``dielectric_slices.layout``) against the stretched node integrator at order
-    ``CHECK_ORDER`` over ``CHECK_MU`` x ``CHECK_COS_PHI`` from both sides, and the seconds
-    each slice took (one thread)."""
+    ``CHECK_ORDER`` over ``_checked``'s directions from both sides (the dense side's with
+    ``CHECK_KINK_OFFSETS``), and the seconds each slice took (one thread)."""
     import adobe_bsdf as ab
 
     rows = []
